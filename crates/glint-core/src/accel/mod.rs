@@ -1,0 +1,5 @@
+//! Acceleration structures.
+
+mod bvh;
+
+pub use bvh::{Bvh, BvhNode};

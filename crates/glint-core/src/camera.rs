@@ -1,0 +1,71 @@
+//! The lecture's camera: primary rays through points on the film plane.
+
+use glam::{Mat4, Vec3};
+
+use crate::desc::CameraDesc;
+use crate::math::Ray;
+
+/// A pinhole camera holding the inverse of the normalizing transformation.
+///
+/// The normalizing transformation maps world space to the canonical frustum (eye at the
+/// origin, looking down −z, view angles scaled to 45°, far plane z = −1). A film point
+/// `(x, y, −1)` with x, y ∈ [−1, 1] is taken back to world space by its inverse,
+/// `world_from_canonical`, and the ray runs from the eye through it. The far distance
+/// is irrelevant to directions, so the frustum is built with far = 1.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    pub eye: Vec3,
+    pub world_from_canonical: Mat4,
+}
+
+impl Camera {
+    /// `None` when look or up is zero or the two are parallel.
+    pub fn new(desc: &CameraDesc, aspect: f32) -> Option<Self> {
+        let w = (-desc.look).try_normalize()?;
+        let u = desc.up.cross(w).try_normalize()?;
+        let v = w.cross(u);
+        let tan_y = (0.5 * desc.fov_y_degrees.to_radians()).tan();
+        let tan_x = tan_y * aspect;
+        let rotate = Mat4::from_cols(u.extend(0.0), v.extend(0.0), w.extend(0.0), glam::Vec4::W);
+        let unscale = Mat4::from_scale(Vec3::new(tan_x, tan_y, 1.0));
+        let world_from_canonical = Mat4::from_translation(desc.eye) * rotate * unscale;
+        Some(Self { eye: desc.eye, world_from_canonical })
+    }
+
+    /// The primary ray through film point `(x, y)` in [−1, 1]² (+y up), unit direction.
+    #[inline]
+    pub fn ray(&self, x: f32, y: f32) -> Ray {
+        let film_point = self.world_from_canonical.transform_point3(Vec3::new(x, y, -1.0));
+        Ray::new(self.eye, (film_point - self.eye).normalize())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn centre_ray_looks_along_look_and_corners_span_the_view_angle() {
+        let desc = CameraDesc { eye: Vec3::new(1.0, 2.0, 3.0), look: Vec3::new(0.0, 0.0, -2.0), up: Vec3::Y, fov_y_degrees: 90.0 };
+        let cam = Camera::new(&desc, 2.0).unwrap();
+        let centre = cam.ray(0.0, 0.0);
+        assert_eq!(centre.origin, desc.eye);
+        assert!((centre.dir - Vec3::NEG_Z).length() < 1e-6);
+        // Top edge: 45° up from the axis for a 90° vertical angle.
+        let top = cam.ray(0.0, 1.0).dir;
+        assert!((top.angle_between(Vec3::NEG_Z).to_degrees() - 45.0).abs() < 1e-3);
+        assert!(top.y > 0.0);
+        // Right edge: atan(2·tan 45°) for aspect 2.
+        let right = cam.ray(1.0, 0.0).dir;
+        assert!((right.angle_between(Vec3::NEG_Z) - 2.0f32.atan()).abs() < 1e-5);
+        assert!(right.x > 0.0);
+    }
+
+    #[test]
+    fn degenerate_cameras_are_rejected() {
+        let parallel = CameraDesc { up: Vec3::new(0.0, 0.0, 1.0), look: Vec3::Z, ..Default::default() };
+        assert!(Camera::new(&parallel, 1.0).is_none());
+        let zero = CameraDesc { look: Vec3::ZERO, ..Default::default() };
+        assert!(Camera::new(&zero, 1.0).is_none());
+    }
+}

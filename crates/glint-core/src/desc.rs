@@ -1,0 +1,206 @@
+//! The format-neutral scene description.
+//!
+//! Every importer (native `.glint`, course XML/JSON, …) produces a [`SceneDesc`]; only
+//! [`crate::scene::compile`] turns it into the flat [`crate::scene::RenderScene`] the
+//! integrators read. It is plain serde data so that a scene can also be built from code
+//! (or Python) and mean exactly what the same scene written as a file means.
+
+use glam::{Vec2, Vec3};
+use serde::{Deserialize, Serialize};
+
+/// A whole scene: what to render and how.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct SceneDesc {
+    pub settings: RenderSettings,
+    pub camera: CameraDesc,
+    pub lights: Vec<LightDesc>,
+    pub materials: Vec<MaterialDesc>,
+    pub textures: Vec<TextureDesc>,
+    /// The roots of the transform hierarchy.
+    pub objects: Vec<NodeDesc>,
+}
+
+/// Image size and the limits of the recursion; every field has a documented default.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RenderSettings {
+    pub width: u32,
+    pub height: u32,
+    /// Samples per pixel along each axis: `n` gives an n×n regular grid (1 = pixel centre).
+    pub samples_per_axis: u32,
+    /// Maximum number of reflection/refraction bounces after the primary ray.
+    pub max_depth: u32,
+    /// A secondary ray is not traced when its weight in the final pixel is below this.
+    pub min_contribution: f32,
+    /// Radiance of rays that leave the scene.
+    pub background: Vec3,
+    /// `L_a` of the lecture's ambient term `L_a·k_a·O_a`.
+    pub ambient_light: Vec3,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        Self {
+            width: 800,
+            height: 600,
+            samples_per_axis: 1,
+            max_depth: 5,
+            min_contribution: 1.0 / 512.0,
+            background: Vec3::ZERO,
+            ambient_light: Vec3::splat(0.1),
+        }
+    }
+}
+
+/// A pinhole camera as the lecture builds it: eye point, look direction, up vector and
+/// vertical view angle; the horizontal angle follows from the image aspect ratio.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CameraDesc {
+    pub eye: Vec3,
+    /// Direction the camera looks along (need not be normalized).
+    pub look: Vec3,
+    pub up: Vec3,
+    /// Full vertical view angle in degrees.
+    pub fov_y_degrees: f32,
+}
+
+impl Default for CameraDesc {
+    fn default() -> Self {
+        Self {
+            eye: Vec3::new(0.0, 0.0, 5.0),
+            look: Vec3::NEG_Z,
+            up: Vec3::Y,
+            fov_y_degrees: 45.0,
+        }
+    }
+}
+
+/// A light source in world space.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum LightDesc {
+    /// Emits equally in all directions from a point; intensity falls off with
+    /// `f_att = min(1, 1/(c1 + c2·d + c3·d²))`.
+    Point { position: Vec3, color: Vec3, attenuation: Vec3 },
+    /// Infinitely far away: parallel rays along `direction`, no attenuation.
+    Directional { direction: Vec3, color: Vec3 },
+    /// A point light restricted to a cone: full intensity inside `angle − penumbra`,
+    /// a smooth falloff to zero at `angle` (both half-angles from the axis, in degrees).
+    Spot {
+        position: Vec3,
+        direction: Vec3,
+        color: Vec3,
+        attenuation: Vec3,
+        angle_degrees: f32,
+        penumbra_degrees: f32,
+    },
+}
+
+/// The lecture's Whitted material: `k` coefficients times `O` colours.
+///
+/// `I = k_a·O_a·L_a + Σ f_att·L·[k_d·O_d·(n·l) + k_s·O_s·(r·v)^n] + k_s·O_r·I_r + k_t·O_t·I_t`
+/// where `O_r` (the reflective colour) is the lecture's `O_s` unless set separately.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MaterialDesc {
+    pub name: String,
+    pub ka: f32,
+    pub kd: f32,
+    pub ks: f32,
+    pub kt: f32,
+    /// `O_a`; `None` means "the diffuse colour".
+    pub ambient: Option<Vec3>,
+    pub diffuse: Vec3,
+    pub specular: Vec3,
+    /// `O_r`, the colour of mirror reflection; `None` means "the specular colour".
+    pub reflective: Option<Vec3>,
+    /// `O_t`, the colour of transmitted light.
+    pub transmissive: Vec3,
+    /// The Phong exponent `n`.
+    pub shininess: f32,
+    /// Index of refraction; 1 gives non-refractive transparency (rays pass straight on).
+    pub ior: f32,
+    /// Index into [`SceneDesc::textures`], blended into the diffuse colour.
+    pub texture: Option<usize>,
+    /// 0 = plain diffuse colour, 1 = texture only.
+    pub blend: f32,
+    /// How many times the texture repeats across the surface's uv square.
+    pub texture_repeat: Vec2,
+}
+
+impl Default for MaterialDesc {
+    fn default() -> Self {
+        Self {
+            name: String::new(),
+            ka: 1.0,
+            kd: 1.0,
+            ks: 1.0,
+            kt: 1.0,
+            ambient: None,
+            diffuse: Vec3::splat(0.8),
+            specular: Vec3::ZERO,
+            reflective: None,
+            transmissive: Vec3::ZERO,
+            shininess: 32.0,
+            ior: 1.0,
+            texture: None,
+            blend: 1.0,
+            texture_repeat: Vec2::ONE,
+        }
+    }
+}
+
+/// A colour pattern over a surface's uv coordinates.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum TextureDesc {
+    /// Decoded pixels in linear RGB, row 0 at the top (v = 1).
+    Image { name: String, width: u32, height: u32, texels: Vec<Vec3> },
+    /// Alternating squares: `cells` squares along u and v of the unit uv square.
+    Checker { name: String, even: Vec3, odd: Vec3, cells: Vec2 },
+}
+
+/// One elementary transform; a node applies its list in order (the first op acts on the
+/// object first). Kept symbolic so that compile can build `M` and `M⁻¹` exactly.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum TransformOp {
+    Translate(Vec3),
+    Scale(Vec3),
+    /// Rotation by `degrees` about `axis` (right-handed).
+    Rotate { axis: Vec3, degrees: f32 },
+    /// A general affine matrix, rows first; its last row must be (0, 0, 0, 1).
+    Matrix([[f32; 4]; 4]),
+}
+
+/// The canonical object-space primitives; size and placement come from transforms.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum ShapeDesc {
+    /// Unit sphere at the origin.
+    Sphere,
+    /// The cube [−1, 1]³.
+    Cube,
+    /// Radius 1 around the y axis, −1 ≤ y ≤ 1, with both caps.
+    Cylinder,
+    /// Apex at y = 1, base of radius 1 at y = −1, with the base cap.
+    Cone,
+    /// The infinite plane y = 0, facing +y.
+    Plane,
+    /// The disk of radius 1 in the plane y = 0, facing +y.
+    Disk,
+    /// Ring of major radius 1 around the y axis with tube radius `minor_radius`.
+    Torus { minor_radius: f32 },
+}
+
+/// A node of the transform hierarchy.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct NodeDesc {
+    pub transform: Vec<TransformOp>,
+    pub kind: NodeKind,
+    /// Where the node came from ("scene.glint:12:5"), so compile errors can point at it.
+    pub origin: String,
+}
+
+/// What a node holds.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum NodeKind {
+    /// A primitive with the index of its material in [`SceneDesc::materials`].
+    Shape { shape: ShapeDesc, material: usize },
+    /// Children placed by this node's transform; a reused definition is a group cloned.
+    Group(Vec<NodeDesc>),
+}

@@ -1,0 +1,73 @@
+//! The film: accumulated pixel values and their conversion to output encodings.
+
+use glam::Vec3;
+
+/// A linear-RGB image, row 0 at the top.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<Vec3>,
+}
+
+impl Image {
+    pub fn new(width: u32, height: u32) -> Self {
+        Self { width, height, pixels: vec![Vec3::ZERO; width as usize * height as usize] }
+    }
+
+    pub fn get(&self, x: u32, y: u32) -> Vec3 {
+        self.pixels[(y * self.width + x) as usize]
+    }
+
+    /// 8-bit sRGB bytes, RGB interleaved: the encoding PNG viewers expect.
+    pub fn to_srgb8(&self) -> Vec<u8> {
+        self.pixels
+            .iter()
+            .flat_map(|p| p.to_array())
+            .map(|c| (linear_to_srgb(c) * 255.0 + 0.5) as u8)
+            .collect()
+    }
+
+    /// 16-bit sRGB values, RGB interleaved.
+    pub fn to_srgb16(&self) -> Vec<u16> {
+        self.pixels
+            .iter()
+            .flat_map(|p| p.to_array())
+            .map(|c| (linear_to_srgb(c) * 65535.0 + 0.5) as u16)
+            .collect()
+    }
+
+    /// Mean absolute difference per channel: the distance used by image comparisons.
+    pub fn mean_abs_diff(&self, other: &Image) -> f32 {
+        assert_eq!((self.width, self.height), (other.width, other.height));
+        let sum: f32 = self.pixels.iter().zip(&other.pixels).map(|(a, b)| (*a - *b).abs().element_sum()).sum();
+        sum / (3 * self.pixels.len()) as f32
+    }
+}
+
+/// The sRGB transfer function (IEC 61966-2-1), clamped to [0, 1]; NaN maps to 0.
+pub fn linear_to_srgb(c: f32) -> f32 {
+    let c = if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) };
+    if c <= 0.003_130_8 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 }
+}
+
+/// The inverse of [`linear_to_srgb`], for reading 8-bit textures.
+pub fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.040_45 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn srgb_round_trips_and_clamps() {
+        for i in 0..=255 {
+            let c = i as f32 / 255.0;
+            assert!((linear_to_srgb(srgb_to_linear(c)) - c).abs() < 1e-5);
+        }
+        assert!((linear_to_srgb(2.0) - 1.0).abs() < 1e-6);
+        assert_eq!(linear_to_srgb(-1.0), 0.0);
+        assert_eq!(linear_to_srgb(f32::NAN), 0.0);
+    }
+}

@@ -1,0 +1,140 @@
+//! The lecture's recursive lighting equation (Whitted, 1980):
+//!
+//! `I = L_a·k_a·O_a + Σ_lights f_att·L·[k_d·O_d·(n·l) + k_s·O_s·(r·v)^n] + k_s·O_r·I_r + k_t·O_t·I_t`
+//!
+//! A light counts only if a shadow ray reaches it; transparent occluders filter it by
+//! their `k_t·O_t`. Reflected and transmitted rays recurse until `max_depth` or until
+//! their weight in the pixel falls below `min_contribution`.
+
+use glam::Vec3;
+
+use super::Counters;
+use crate::material::{Material, NO_TEXTURE};
+use crate::math::{Ray, offset_ray_origin};
+use crate::scene::{Hit, RenderScene};
+
+/// Radiance arriving along `ray`. `weight` is the product of the `k·O` factors that
+/// lead from the pixel to this ray, used only to stop negligible recursion.
+pub fn radiance(scene: &RenderScene, ray: &Ray, depth: u32, weight: Vec3, counters: &mut Counters) -> Vec3 {
+    counters.rays += 1;
+    let Some(hit) = scene.intersect(ray, f32::INFINITY) else {
+        return scene.settings.background;
+    };
+    let material = &scene.materials[hit.material as usize];
+    let d = ray.dir.normalize();
+    // Shade the side the ray arrived on: n faces the viewer.
+    let entering = hit.normal.dot(d) < 0.0;
+    let n = if entering { hit.normal } else { -hit.normal };
+    let mut color = direct_lighting(scene, &hit, material, n, -d, counters);
+
+    if depth >= scene.settings.max_depth {
+        return color;
+    }
+    let worth_tracing = |w: Vec3| w.max_element() > scene.settings.min_contribution;
+    let reflected_dir = reflect(d, n);
+    let reflect_weight = weight * material.reflective;
+    if worth_tracing(reflect_weight) {
+        let r = Ray::new(offset_ray_origin(hit.point, n), reflected_dir);
+        color += material.reflective * radiance(scene, &r, depth + 1, reflect_weight, counters);
+    }
+    let transmit_weight = weight * material.transmissive;
+    if worth_tracing(transmit_weight) {
+        let eta = if entering { 1.0 / material.ior } else { material.ior };
+        let transmitted = if material.ior == 1.0 { Some(d) } else { refract(d, n, eta) };
+        let r = match transmitted {
+            Some(t) => Ray::new(offset_ray_origin(hit.point, -n), t),
+            // Total internal reflection: the transmitted share is reflected instead.
+            None => Ray::new(offset_ray_origin(hit.point, n), reflected_dir),
+        };
+        color += material.transmissive * radiance(scene, &r, depth + 1, transmit_weight, counters);
+    }
+    color
+}
+
+/// The non-recursive part: ambient plus every unshadowed light's diffuse and specular.
+fn direct_lighting(scene: &RenderScene, hit: &Hit, m: &Material, n: Vec3, v: Vec3, counters: &mut Counters) -> Vec3 {
+    let texel = (m.texture != NO_TEXTURE).then(|| scene.texture(m.texture, hit.uv * m.texture_repeat));
+    let diffuse = m.diffuse_with(texel);
+    let mut color = scene.settings.ambient_light * m.ambient;
+    let shadow_origin = offset_ray_origin(hit.point, n);
+    for light in &scene.lights {
+        let incidence = light.incidence(hit.point);
+        let n_dot_l = n.dot(incidence.to_light);
+        if n_dot_l <= 0.0 || incidence.radiance == Vec3::ZERO {
+            continue;
+        }
+        counters.rays += 1;
+        let shadow_ray = Ray::new(shadow_origin, incidence.to_light);
+        let filter = scene.transmittance(&shadow_ray, incidence.distance);
+        if filter == Vec3::ZERO {
+            continue;
+        }
+        let r = reflect(-incidence.to_light, n);
+        let highlight = if m.specular == Vec3::ZERO { 0.0 } else { r.dot(v).max(0.0).powf(m.shininess) };
+        color += filter * incidence.radiance * (diffuse * n_dot_l + m.specular * highlight);
+    }
+    color
+}
+
+/// Mirror direction of `d` about the unit normal `n`: `d − 2(d·n)n`.
+#[inline]
+pub fn reflect(d: Vec3, n: Vec3) -> Vec3 {
+    d - 2.0 * d.dot(n) * n
+}
+
+/// Snell's law `η₁ sin θ₁ = η₂ sin θ₂` for unit `d` arriving against unit `n`
+/// (`d·n < 0`), with `eta = η₁/η₂`. `None` past the critical angle: total internal
+/// reflection.
+#[inline]
+pub fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
+    let cos_i = -d.dot(n);
+    let sin2_t = eta * eta * (1.0 - cos_i * cos_i).max(0.0);
+    if sin2_t > 1.0 {
+        return None;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    Some(eta * d + (eta * cos_i - cos_t) * n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn incident(theta: f64) -> Vec3 {
+        // In the xy plane, arriving downward onto the surface with normal +y.
+        Vec3::new(theta.sin() as f32, -(theta.cos() as f32), 0.0)
+    }
+
+    #[test]
+    fn refraction_obeys_snell() {
+        for deg in [0.0f64, 10.0, 30.0, 60.0, 89.0] {
+            let d = incident(deg.to_radians());
+            let t = refract(d, Vec3::Y, 1.0 / 1.5).unwrap();
+            assert!((t.length() - 1.0).abs() < 1e-5);
+            let sin_t = t.x as f64;
+            assert!((1.0 * deg.to_radians().sin() - 1.5 * sin_t).abs() < 1e-5, "{deg}°");
+            assert!(t.y < 0.0, "transmitted ray continues through the surface");
+        }
+    }
+
+    #[test]
+    fn total_internal_reflection_begins_exactly_at_the_critical_angle() {
+        // Leaving glass (η = 1.5) into air: θc = asin(1/1.5).
+        let critical = (1.0f64 / 1.5).asin();
+        let eta = 1.5;
+        let below = refract(incident(critical - 1e-4), Vec3::Y, eta).expect("refracts below θc");
+        assert!(below.x > 0.999, "grazing exit just below θc: {below:?}");
+        assert!(refract(incident(critical + 1e-4), Vec3::Y, eta).is_none());
+        // At θc itself the refracted ray runs along the surface (cos θt = 0).
+        if let Some(t) = refract(incident(critical), Vec3::Y, eta) {
+            assert!(t.y.abs() < 1e-3, "{t:?}");
+        }
+    }
+
+    #[test]
+    fn reflection_angle_equals_incidence() {
+        let d = incident(0.7);
+        let r = reflect(d, Vec3::Y);
+        assert!((r - Vec3::new(d.x, -d.y, 0.0)).length() < 1e-6);
+    }
+}

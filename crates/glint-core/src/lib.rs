@@ -1,0 +1,18 @@
+//! glint-core: the renderer itself.
+//!
+//! Data flows one way: [`desc::SceneDesc`] → [`scene::compile`] → [`scene::RenderScene`]
+//! (flat arrays) → [`render::render`] over tiles → [`film::Image`]. This crate never
+//! touches files and never prints; progress and cancellation go through callbacks.
+
+pub mod accel;
+pub mod camera;
+pub mod desc;
+pub mod film;
+pub mod integrator;
+pub mod light;
+pub mod material;
+pub mod math;
+pub mod render;
+pub mod scene;
+pub mod shape;
+pub mod texture;

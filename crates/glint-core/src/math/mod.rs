@@ -1,0 +1,14 @@
+//! Geometry primitives shared by every part of the renderer: a thin layer over glam.
+
+mod aabb;
+mod offset;
+mod ray;
+pub mod roots;
+mod transform;
+
+pub use aabb::Aabb;
+pub use offset::offset_ray_origin;
+pub use ray::Ray;
+pub use transform::Transform;
+
+pub use glam::{Mat3, Mat4, Vec2, Vec3};

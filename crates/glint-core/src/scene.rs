@@ -1,0 +1,297 @@
+//! The compiled render scene and [`compile`], which builds it from a [`SceneDesc`].
+
+use bytemuck::NoUninit;
+use glam::{Mat4, Vec2, Vec3};
+
+use crate::accel::Bvh;
+use crate::camera::Camera;
+use crate::desc::{NodeDesc, NodeKind, SceneDesc, ShapeDesc, TransformOp};
+use crate::light::Light;
+use crate::material::Material;
+use crate::math::{Aabb, Ray, Transform, offset_ray_origin};
+use crate::shape::{Primitive, Shape, ShapeKind};
+use crate::texture::Texture;
+
+/// One placed primitive: the shape, where it is (`M` and `M⁻¹`) and what it is made of.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, NoUninit)]
+pub struct Instance {
+    pub transform: Transform,
+    pub shape: Shape,
+    pub material: u32,
+    pub _pad: u32,
+}
+
+/// The render settings after validation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settings {
+    pub width: u32,
+    pub height: u32,
+    pub samples_per_axis: u32,
+    pub max_depth: u32,
+    pub min_contribution: f32,
+    pub background: Vec3,
+    pub ambient_light: Vec3,
+}
+
+/// Everything a backend needs, as flat arrays of plain records.
+///
+/// `instances[..bounded_count]` are ordered as the BVH's leaves expect; the rest are
+/// unbounded (infinite planes) and tested against every ray.
+#[derive(Clone, Debug)]
+pub struct RenderScene {
+    pub settings: Settings,
+    pub camera: Camera,
+    pub instances: Vec<Instance>,
+    pub bounded_count: usize,
+    pub bvh: Bvh,
+    pub materials: Vec<Material>,
+    pub lights: Vec<Light>,
+    pub textures: Vec<Texture>,
+    pub texels: Vec<Vec3>,
+    /// True when some material lets light through, so shadow rays must look past hits.
+    pub has_transmissive: bool,
+}
+
+/// The closest intersection, with world-space surface data.
+#[derive(Clone, Copy, Debug)]
+pub struct Hit {
+    pub t: f32,
+    /// The hit point, computed as `M·Q` from the refined object-space point `Q`.
+    pub point: Vec3,
+    /// Unit world-space normal `(M⁻¹)ᵀ∇f`, pointing out of the solid.
+    pub normal: Vec3,
+    pub uv: Vec2,
+    pub material: u32,
+}
+
+/// Why a scene description cannot be rendered; `origin` says where it came from.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CompileError {
+    #[error("{origin}: {message}")]
+    Invalid { origin: String, message: String },
+}
+
+fn invalid(origin: &str, message: impl Into<String>) -> CompileError {
+    CompileError::Invalid { origin: if origin.is_empty() { "scene".into() } else { origin.into() }, message: message.into() }
+}
+
+/// Largest image side and pixel count accepted: beyond this the film alone would not fit
+/// in memory of any machine we target.
+pub const MAX_IMAGE_SIDE: u32 = 65_536;
+pub const MAX_PIXELS: u64 = 1 << 28;
+
+/// Flattens the transform tree, resolves indices, validates every number and builds the
+/// BVH. Degenerate input (zero scale, NaN, a camera looking along its up vector, …) is
+/// rejected here with a message naming the object, never discovered mid-render.
+pub fn compile(desc: &SceneDesc) -> Result<RenderScene, CompileError> {
+    let settings = compile_settings(desc)?;
+    let camera = Camera::new(&desc.camera, settings.width as f32 / settings.height as f32)
+        .filter(|_| finite_camera(desc))
+        .ok_or_else(|| invalid("camera", "eye, look and up must be finite, look and up non-zero and not parallel, and 0 < fov < 180"))?;
+
+    let mut texels = Vec::new();
+    let textures: Vec<Texture> = desc.textures.iter().map(|t| Texture::compile(t, &mut texels)).collect();
+    let materials: Vec<Material> = desc
+        .materials
+        .iter()
+        .map(|m| {
+            let texture = m.texture.map(|i| i as u32);
+            if texture.is_some_and(|i| i as usize >= textures.len()) {
+                return Err(invalid(&m.name, "texture index out of range"));
+            }
+            let mat = Material::compile(m, texture);
+            let numbers = [mat.ambient, mat.diffuse, mat.specular, mat.reflective, mat.transmissive];
+            if !numbers.iter().all(|v| v.is_finite()) || !(mat.shininess.is_finite() && mat.ior.is_finite() && mat.ior > 0.0) {
+                return Err(invalid(&m.name, "material values must be finite numbers and ior > 0"));
+            }
+            Ok(mat)
+        })
+        .collect::<Result<_, _>>()?;
+    let lights = desc.lights.iter().map(Light::compile).collect::<Vec<_>>();
+    if lights.iter().any(|l| !(l.color.is_finite() && l.position.is_finite() && l.direction.is_finite() && l.attenuation.is_finite())) {
+        return Err(invalid("lights", "light values must be finite and directions non-zero"));
+    }
+
+    let mut flat = Vec::new();
+    for node in &desc.objects {
+        flatten(node, &Transform::IDENTITY, desc.materials.len(), &mut flat)?;
+    }
+    let (bounded, unbounded): (Vec<_>, Vec<_>) = flat.into_iter().partition(|inst| world_bounds(inst).is_finite());
+    let boxes: Vec<Aabb> = bounded.iter().map(world_bounds).collect();
+    let (bvh, order) = Bvh::build(&boxes);
+    let bounded_count = bounded.len();
+    let mut instances: Vec<Instance> = order.iter().map(|&i| bounded[i as usize]).collect();
+    instances.extend(unbounded);
+
+    let has_transmissive = materials.iter().any(Material::is_transmissive);
+    Ok(RenderScene { settings, camera, instances, bounded_count, bvh, materials, lights, textures, texels, has_transmissive })
+}
+
+fn finite_camera(desc: &SceneDesc) -> bool {
+    let c = &desc.camera;
+    c.eye.is_finite() && c.look.is_finite() && c.up.is_finite() && c.fov_y_degrees > 0.0 && c.fov_y_degrees < 180.0
+}
+
+fn compile_settings(desc: &SceneDesc) -> Result<Settings, CompileError> {
+    let s = &desc.settings;
+    let pixels = s.width as u64 * s.height as u64;
+    if s.width == 0 || s.height == 0 || s.width > MAX_IMAGE_SIDE || s.height > MAX_IMAGE_SIDE || pixels > MAX_PIXELS {
+        return Err(invalid(
+            "settings",
+            format!("image size {}x{} is out of range (1..={MAX_IMAGE_SIDE} per side, at most {MAX_PIXELS} pixels)", s.width, s.height),
+        ));
+    }
+    if !(1..=64).contains(&s.samples_per_axis) {
+        return Err(invalid("settings", format!("samples per axis {} is out of range 1..=64", s.samples_per_axis)));
+    }
+    if !(s.background.is_finite() && s.ambient_light.is_finite() && s.min_contribution.is_finite()) {
+        return Err(invalid("settings", "background, ambient and min_contribution must be finite"));
+    }
+    Ok(Settings {
+        width: s.width,
+        height: s.height,
+        samples_per_axis: s.samples_per_axis,
+        max_depth: s.max_depth.min(64),
+        min_contribution: s.min_contribution.max(0.0),
+        background: s.background,
+        ambient_light: s.ambient_light,
+    })
+}
+
+/// The transform a node's ops make, first op acting on the object first.
+fn node_transform(ops: &[TransformOp], origin: &str) -> Result<Transform, CompileError> {
+    ops.iter().try_fold(Transform::IDENTITY, |acc, op| {
+        let t = match *op {
+            TransformOp::Translate(v) => v.is_finite().then(|| Transform::translate(v)),
+            TransformOp::Scale(s) => Transform::scale(s),
+            TransformOp::Rotate { axis, degrees } => {
+                if degrees.is_finite() && axis.is_finite() { Transform::rotate(axis, degrees) } else { None }
+            }
+            TransformOp::Matrix(rows) => Transform::from_matrix(Mat4::from_cols_array_2d(&rows).transpose()),
+        };
+        let t = t.ok_or_else(|| invalid(origin, format!("transform {op:?} is not invertible or not finite")))?;
+        Ok(acc.then(&t))
+    })
+}
+
+fn flatten(node: &NodeDesc, parent: &Transform, material_count: usize, out: &mut Vec<Instance>) -> Result<(), CompileError> {
+    let transform = node_transform(&node.transform, &node.origin)?.then(parent);
+    if !(transform.world_from_object.is_finite() && transform.object_from_world.is_finite()) {
+        return Err(invalid(&node.origin, "the accumulated transform overflows"));
+    }
+    match &node.kind {
+        NodeKind::Group(children) => {
+            for child in children {
+                flatten(child, &transform, material_count, out)?;
+            }
+        }
+        NodeKind::Shape { shape, material } => {
+            if *material >= material_count {
+                return Err(invalid(&node.origin, format!("material index {material} out of range")));
+            }
+            let shape = match *shape {
+                ShapeDesc::Sphere => Shape::new(ShapeKind::Sphere),
+                ShapeDesc::Cube => Shape::new(ShapeKind::Cube),
+                ShapeDesc::Cylinder => Shape::new(ShapeKind::Cylinder),
+                ShapeDesc::Cone => Shape::new(ShapeKind::Cone),
+                ShapeDesc::Plane => Shape::new(ShapeKind::Plane),
+                ShapeDesc::Disk => Shape::new(ShapeKind::Disk),
+                ShapeDesc::Torus { minor_radius } => {
+                    if !(minor_radius > 0.0 && minor_radius < 1.0) {
+                        return Err(invalid(&node.origin, format!("torus minor radius {minor_radius} must be in (0, 1)")));
+                    }
+                    Shape::torus(minor_radius)
+                }
+            };
+            out.push(Instance { transform, shape, material: *material as u32, _pad: 0 });
+        }
+    }
+    Ok(())
+}
+
+fn world_bounds(inst: &Instance) -> Aabb {
+    let b = inst.shape.bounds();
+    if !b.is_finite() {
+        return Aabb::new(Vec3::NEG_INFINITY, Vec3::INFINITY);
+    }
+    b.transformed(&inst.transform.world_from_object)
+}
+
+impl RenderScene {
+    /// The closest hit with `0 < t < t_max`.
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        let mut best: Option<(u32, crate::shape::ShapeHit)> = None;
+        let mut t_max = t_max;
+        let mut test = |index: u32, t_max: &mut f32| {
+            let inst = &self.instances[index as usize];
+            let local = inst.transform.ray_to_object(ray);
+            if let Some(hit) = inst.shape.intersect(&local, *t_max) {
+                *t_max = hit.t;
+                best = Some((index, hit));
+            }
+            false
+        };
+        self.bvh.traverse(ray, &mut t_max, &mut test);
+        for index in self.bounded_count..self.instances.len() {
+            test(index as u32, &mut t_max);
+        }
+        let (index, hit) = best?;
+        let inst = &self.instances[index as usize];
+        let local = inst.transform.ray_to_object(ray);
+        let surface = inst.shape.surface(&local, hit);
+        Some(Hit {
+            t: hit.t,
+            point: inst.transform.point_to_world(surface.point),
+            normal: inst.transform.normal_to_world(surface.normal).normalize_or(Vec3::Y),
+            uv: surface.uv,
+            material: inst.material,
+        })
+    }
+
+    /// Whether anything blocks the segment `0 < t < t_max`; stops at the first hit.
+    pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        let hits = |index: u32, t_max: &mut f32| {
+            let inst = &self.instances[index as usize];
+            inst.shape.intersect(&inst.transform.ray_to_object(ray), *t_max).is_some()
+        };
+        let mut blocked = false;
+        self.bvh.traverse(ray, &mut t_max.clone(), |i, t| {
+            blocked = hits(i, t);
+            blocked
+        });
+        blocked || (self.bounded_count..self.instances.len()).any(|i| hits(i as u32, &mut t_max.clone()))
+    }
+
+    /// The fraction of light that crosses the segment `0 < t < t_max`: zero if an opaque
+    /// surface blocks it, else the product of `k_t·O_t` of every surface crossed.
+    pub fn transmittance(&self, ray: &Ray, t_max: f32) -> Vec3 {
+        if !self.has_transmissive {
+            return if self.occluded(ray, t_max) { Vec3::ZERO } else { Vec3::ONE };
+        }
+        let mut filter = Vec3::ONE;
+        let mut ray = *ray;
+        let mut t_left = t_max;
+        // Each crossing moves the origin past one surface; the bound only guards
+        // against pathological scenes.
+        for _ in 0..64 {
+            let Some(hit) = self.intersect(&ray, t_left) else { return filter };
+            filter *= self.materials[hit.material as usize].transmissive;
+            if filter.max_element() <= 0.0 {
+                return Vec3::ZERO;
+            }
+            let side = if hit.normal.dot(ray.dir) > 0.0 { hit.normal } else { -hit.normal };
+            let origin = offset_ray_origin(hit.point, side);
+            // Keep the far end fixed: same direction, parameter measured from the new origin.
+            let end = ray.at(t_left);
+            t_left = (end - origin).dot(ray.dir) / ray.dir.length_squared();
+            ray.origin = origin;
+        }
+        Vec3::ZERO
+    }
+
+    /// Samples texture `index` at `uv`.
+    pub fn texture(&self, index: u32, uv: Vec2) -> Vec3 {
+        self.textures[index as usize].sample(uv, &self.texels)
+    }
+}

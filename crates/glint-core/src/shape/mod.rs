@@ -1,0 +1,159 @@
+//! The canonical primitives, each intersected in its own object space.
+//!
+//! Every primitive answers the same three questions ([`Primitive`]): where does a ray
+//! first meet me (`t`, in object space — the caller has already applied `M⁻¹`), what is
+//! the surface there (refined point, gradient normal, uv), and what box bounds me.
+//! [`Shape`] is the closed set of them as plain data, dispatched by `match` so the same
+//! record serves the CPU and, uploaded as is, the GPU.
+
+mod cone;
+mod cube;
+mod cylinder;
+mod disk;
+mod plane;
+mod sphere;
+mod torus;
+
+pub use cone::Cone;
+pub use cube::Cube;
+pub use cylinder::Cylinder;
+pub use disk::Disk;
+pub use plane::Plane;
+pub use sphere::Sphere;
+pub use torus::Torus;
+
+use bytemuck::NoUninit;
+use glam::{Vec2, Vec3};
+
+use crate::math::{Aabb, Ray};
+
+/// Where a ray first meets a primitive: the ray parameter and which part of the
+/// surface (a cube face, a cylinder cap, …) so the surface data can be derived later,
+/// only for the closest hit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShapeHit {
+    pub t: f32,
+    pub part: u32,
+}
+
+/// Surface data at a hit, in object space.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfacePoint {
+    /// The hit point moved exactly onto the surface (removes the error in `t`).
+    pub point: Vec3,
+    /// `∇f` at the point, pointing out of the solid; not normalized.
+    pub normal: Vec3,
+    /// Texture coordinates; [0, 1]² for bounded surfaces, unbounded on the plane.
+    pub uv: Vec2,
+}
+
+/// The interface every primitive implements.
+pub trait Primitive {
+    /// The smallest `t` in `(0, t_max)` where `ray` (object space, direction not
+    /// normalized) meets the surface.
+    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<ShapeHit>;
+    /// Surface data at a hit returned by [`Primitive::intersect`] for the same ray.
+    fn surface(&self, ray: &Ray, hit: ShapeHit) -> SurfacePoint;
+    /// Object-space bounds; infinite for unbounded surfaces.
+    fn bounds(&self) -> Aabb;
+}
+
+/// Which primitive a [`Shape`] record is.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, NoUninit)]
+pub enum ShapeKind {
+    Sphere = 0,
+    Cube = 1,
+    Cylinder = 2,
+    Cone = 3,
+    Plane = 4,
+    Disk = 5,
+    Torus = 6,
+}
+
+/// A primitive as flat data: its kind and its one shape parameter (the torus's tube
+/// radius; unused by the others).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, NoUninit)]
+pub struct Shape {
+    pub kind: ShapeKind,
+    pub param: f32,
+}
+
+impl Shape {
+    pub const fn new(kind: ShapeKind) -> Self {
+        Self { kind, param: 0.0 }
+    }
+
+    pub const fn torus(minor_radius: f32) -> Self {
+        Self { kind: ShapeKind::Torus, param: minor_radius }
+    }
+}
+
+macro_rules! dispatch {
+    ($shape:expr, $prim:ident => $body:expr) => {
+        match $shape.kind {
+            ShapeKind::Sphere => { let $prim = Sphere; $body }
+            ShapeKind::Cube => { let $prim = Cube; $body }
+            ShapeKind::Cylinder => { let $prim = Cylinder; $body }
+            ShapeKind::Cone => { let $prim = Cone; $body }
+            ShapeKind::Plane => { let $prim = Plane; $body }
+            ShapeKind::Disk => { let $prim = Disk; $body }
+            ShapeKind::Torus => { let $prim = Torus { minor_radius: $shape.param }; $body }
+        }
+    };
+}
+
+impl Primitive for Shape {
+    #[inline]
+    fn intersect(&self, ray: &Ray, t_max: f32) -> Option<ShapeHit> {
+        dispatch!(self, p => p.intersect(ray, t_max))
+    }
+
+    fn surface(&self, ray: &Ray, hit: ShapeHit) -> SurfacePoint {
+        dispatch!(self, p => p.surface(ray, hit))
+    }
+
+    fn bounds(&self) -> Aabb {
+        dispatch!(self, p => p.bounds())
+    }
+}
+
+/// The nearer of two candidate roots that lies in `(0, t_max)` and passes `accept`.
+#[inline]
+pub(crate) fn nearest_root(
+    roots: [f32; 2],
+    t_max: f32,
+    mut accept: impl FnMut(f32) -> bool,
+) -> Option<f32> {
+    roots.into_iter().find(|&t| t > 0.0 && t < t_max && accept(t))
+}
+
+/// Moves the ray origin to the point of the line closest to the object-space origin
+/// and returns the parameter shift. Solving the quadric from there keeps the constant
+/// term small, which removes the catastrophic cancellation a distant origin causes
+/// (Haines et al., "Precision Improvements for Ray/Sphere Intersection", Ray Tracing
+/// Gems ch. 7, generalized to any shape centred at the origin).
+#[inline]
+pub(crate) fn rebase(ray: &Ray) -> (f32, Ray) {
+    let t0 = -ray.origin.dot(ray.dir) / ray.dir.length_squared();
+    (t0, Ray { origin: ray.at(t0), dir: ray.dir })
+}
+
+/// Longitude of a point around the y axis mapped to [0, 1).
+#[inline]
+pub(crate) fn azimuth_u(p: Vec3) -> f32 {
+    let theta = p.z.atan2(p.x);
+    let u = -theta / std::f32::consts::TAU;
+    if u < 0.0 { u + 1.0 } else { u }
+}
+
+/// uv on a disk of radius 1 in a plane y = const, seen from `facing_up`'s side.
+#[inline]
+pub(crate) fn disk_uv(p: Vec3, facing_up: bool) -> Vec2 {
+    let v = if facing_up { 0.5 - 0.5 * p.z } else { 0.5 + 0.5 * p.z };
+    Vec2::new(0.5 + 0.5 * p.x, v)
+}
+
+#[cfg(test)]
+mod tests;
