@@ -1,0 +1,152 @@
+//! Writing rendered images: PNG (8/16-bit sRGB), EXR (linear float) and PPM.
+//!
+//! Files are written to a temporary sibling and renamed into place, so an error or an
+//! interrupted process never leaves a half-written image under the requested name.
+
+use std::fs;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use glint_core::film::Image;
+use image::{ImageBuffer, ImageFormat, Rgb};
+
+/// The encodings glint writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OutputFormat {
+    /// 8 bits per channel, sRGB.
+    Png8,
+    /// 16 bits per channel, sRGB.
+    Png16,
+    /// 32-bit float per channel, linear: keeps values above 1 for compositing.
+    Exr,
+    /// Binary PPM (P6), 8-bit sRGB: trivially readable by any tool.
+    Ppm,
+}
+
+impl OutputFormat {
+    /// The format a file name asks for, by extension.
+    pub fn from_path(path: &Path) -> Option<Self> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "png" => Some(Self::Png8),
+            "exr" => Some(Self::Exr),
+            "ppm" => Some(Self::Ppm),
+            _ => None,
+        }
+    }
+}
+
+/// Why an image could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum WriteError {
+    #[error("cannot write {path}: {source}")]
+    Io { path: PathBuf, source: std::io::Error },
+    #[error("cannot encode {path}: {source}")]
+    Encode { path: PathBuf, source: image::ImageError },
+}
+
+/// Encodes `image` as `format` and atomically places it at `path`.
+pub fn write_image(image: &Image, path: &Path, format: OutputFormat) -> Result<(), WriteError> {
+    let tmp = temp_sibling(path);
+    let result = encode(image, &tmp, format).and_then(|()| {
+        fs::rename(&tmp, path).map_err(|source| WriteError::Io { path: path.to_owned(), source })
+    });
+    if result.is_err() {
+        let _ = fs::remove_file(&tmp);
+    }
+    result
+}
+
+fn temp_sibling(path: &Path) -> PathBuf {
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    path.with_file_name(format!(".{name}.{}.tmp", std::process::id()))
+}
+
+fn encode(image: &Image, tmp: &Path, format: OutputFormat) -> Result<(), WriteError> {
+    let io_err = |source| WriteError::Io { path: tmp.to_owned(), source };
+    let enc_err = |source| WriteError::Encode { path: tmp.to_owned(), source };
+    let (w, h) = (image.width, image.height);
+    match format {
+        OutputFormat::Png8 => {
+            let buf: ImageBuffer<Rgb<u8>, _> = ImageBuffer::from_raw(w, h, image.to_srgb8()).expect("buffer size matches");
+            buf.save_with_format(tmp, ImageFormat::Png).map_err(enc_err)
+        }
+        OutputFormat::Png16 => {
+            let buf: ImageBuffer<Rgb<u16>, _> = ImageBuffer::from_raw(w, h, image.to_srgb16()).expect("buffer size matches");
+            buf.save_with_format(tmp, ImageFormat::Png).map_err(enc_err)
+        }
+        OutputFormat::Exr => {
+            let data: Vec<f32> = image.pixels.iter().flat_map(|p| p.to_array()).collect();
+            let buf: ImageBuffer<Rgb<f32>, _> = ImageBuffer::from_raw(w, h, data).expect("buffer size matches");
+            buf.save_with_format(tmp, ImageFormat::OpenExr).map_err(enc_err)
+        }
+        OutputFormat::Ppm => {
+            let file = fs::File::create(tmp).map_err(io_err)?;
+            let mut out = BufWriter::new(file);
+            write!(out, "P6\n{w} {h}\n255\n").map_err(io_err)?;
+            out.write_all(&image.to_srgb8()).map_err(io_err)?;
+            out.into_inner().map_err(|e| io_err(e.into_error()))?.sync_all().map_err(io_err)
+        }
+    }
+}
+
+/// Reads a PNG/PPM/EXR back as linear RGB (the inverse of [`write_image`]), for image
+/// comparisons in tests and benchmarks.
+pub fn read_image(path: &Path) -> Result<Image, image::ImageError> {
+    let decoded = image::open(path)?;
+    let is_float = matches!(decoded.color(), image::ColorType::Rgb32F | image::ColorType::Rgba32F);
+    let rgb = decoded.to_rgb32f();
+    let mut out = Image::new(rgb.width(), rgb.height());
+    for (dst, px) in out.pixels.iter_mut().zip(rgb.pixels()) {
+        let [r, g, b] = px.0;
+        *dst = if is_float {
+            glam::Vec3::new(r, g, b)
+        } else {
+            glam::Vec3::new(r, g, b).map(glint_core::film::srgb_to_linear)
+        };
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    fn sample_image() -> Image {
+        let mut img = Image::new(4, 3);
+        for (i, p) in img.pixels.iter_mut().enumerate() {
+            *p = Vec3::new(i as f32 / 12.0, 0.5, 1.0 - i as f32 / 12.0);
+        }
+        img
+    }
+
+    #[test]
+    fn every_format_round_trips() {
+        let dir = std::env::temp_dir().join(format!("glint-image-out-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        let img = sample_image();
+        for (name, format, tolerance) in [
+            ("a.png", OutputFormat::Png8, 4e-3),
+            ("b.png", OutputFormat::Png16, 1e-4),
+            ("c.exr", OutputFormat::Exr, 1e-6),
+            ("d.ppm", OutputFormat::Ppm, 4e-3),
+        ] {
+            let path = dir.join(name);
+            write_image(&img, &path, format).unwrap();
+            let back = read_image(&path).unwrap();
+            assert!(img.mean_abs_diff(&back) < tolerance, "{name}: {}", img.mean_abs_diff(&back));
+        }
+        // No temporary files are left behind.
+        let leftovers = fs::read_dir(&dir).unwrap().filter(|e| e.as_ref().unwrap().file_name().to_string_lossy().ends_with(".tmp")).count();
+        assert_eq!(leftovers, 0);
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn failed_write_leaves_nothing() {
+        let path = std::env::temp_dir().join("glint-no-such-dir-xyz").join("out.png");
+        assert!(write_image(&sample_image(), &path, OutputFormat::Png8).is_err());
+        assert!(!path.exists());
+    }
+}
