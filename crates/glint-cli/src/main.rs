@@ -105,7 +105,10 @@ fn run_render(args: &RenderArgs) -> Result<(), Failure> {
         Some(FormatArg::Exr) => OutputFormat::Exr,
         Some(FormatArg::Ppm) => OutputFormat::Ppm,
         None => OutputFormat::from_path(&args.output).ok_or_else(|| {
-            format!("cannot tell the image format of '{}': use .png, .exr or .ppm, or pass --format", args.output.display())
+            format!(
+                "cannot tell the image format of '{}': use .png, .exr or .ppm, or pass --format",
+                args.output.display()
+            )
         })?,
     };
     let mut desc = load(args.scene.as_deref())?;
@@ -169,9 +172,11 @@ fn progress_bar(quiet: bool) -> ProgressBar {
     }
     let bar = ProgressBar::new(1);
     bar.set_style(
-        ProgressStyle::with_template("{spinner} rendering [{bar:40}] {percent:>3}% tiles {pos}/{len}, {elapsed} elapsed, ETA {eta}")
-            .expect("valid template")
-            .progress_chars("=> "),
+        ProgressStyle::with_template(
+            "{spinner} rendering [{bar:40}] {percent:>3}% tiles {pos}/{len}, {elapsed} elapsed, ETA {eta}",
+        )
+        .expect("valid template")
+        .progress_chars("=> "),
     );
     bar
 }

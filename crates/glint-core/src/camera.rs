@@ -46,7 +46,12 @@ mod tests {
 
     #[test]
     fn centre_ray_looks_along_look_and_corners_span_the_view_angle() {
-        let desc = CameraDesc { eye: Vec3::new(1.0, 2.0, 3.0), look: Vec3::new(0.0, 0.0, -2.0), up: Vec3::Y, fov_y_degrees: 90.0 };
+        let desc = CameraDesc {
+            eye: Vec3::new(1.0, 2.0, 3.0),
+            look: Vec3::new(0.0, 0.0, -2.0),
+            up: Vec3::Y,
+            fov_y_degrees: 90.0,
+        };
         let cam = Camera::new(&desc, 2.0).unwrap();
         let centre = cam.ray(0.0, 0.0);
         assert_eq!(centre.origin, desc.eye);

@@ -65,12 +65,7 @@ pub struct CameraDesc {
 
 impl Default for CameraDesc {
     fn default() -> Self {
-        Self {
-            eye: Vec3::new(0.0, 0.0, 5.0),
-            look: Vec3::NEG_Z,
-            up: Vec3::Y,
-            fov_y_degrees: 45.0,
-        }
+        Self { eye: Vec3::new(0.0, 0.0, 5.0), look: Vec3::NEG_Z, up: Vec3::Y, fov_y_degrees: 45.0 }
     }
 }
 
@@ -84,14 +79,7 @@ pub enum LightDesc {
     Directional { direction: Vec3, color: Vec3 },
     /// A point light restricted to a cone: full intensity inside `angle − penumbra`,
     /// a smooth falloff to zero at `angle` (both half-angles from the axis, in degrees).
-    Spot {
-        position: Vec3,
-        direction: Vec3,
-        color: Vec3,
-        attenuation: Vec3,
-        angle_degrees: f32,
-        penumbra_degrees: f32,
-    },
+    Spot { position: Vec3, direction: Vec3, color: Vec3, attenuation: Vec3, angle_degrees: f32, penumbra_degrees: f32 },
 }
 
 /// The lecture's Whitted material: `k` coefficients times `O` colours.
@@ -163,7 +151,10 @@ pub enum TransformOp {
     Translate(Vec3),
     Scale(Vec3),
     /// Rotation by `degrees` about `axis` (right-handed).
-    Rotate { axis: Vec3, degrees: f32 },
+    Rotate {
+        axis: Vec3,
+        degrees: f32,
+    },
     /// A general affine matrix, rows first; its last row must be (0, 0, 0, 1).
     Matrix([[f32; 4]; 4]),
 }

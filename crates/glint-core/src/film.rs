@@ -21,20 +21,12 @@ impl Image {
 
     /// 8-bit sRGB bytes, RGB interleaved: the encoding PNG viewers expect.
     pub fn to_srgb8(&self) -> Vec<u8> {
-        self.pixels
-            .iter()
-            .flat_map(|p| p.to_array())
-            .map(|c| (linear_to_srgb(c) * 255.0 + 0.5) as u8)
-            .collect()
+        self.pixels.iter().flat_map(|p| p.to_array()).map(|c| (linear_to_srgb(c) * 255.0 + 0.5) as u8).collect()
     }
 
     /// 16-bit sRGB values, RGB interleaved.
     pub fn to_srgb16(&self) -> Vec<u16> {
-        self.pixels
-            .iter()
-            .flat_map(|p| p.to_array())
-            .map(|c| (linear_to_srgb(c) * 65535.0 + 0.5) as u16)
-            .collect()
+        self.pixels.iter().flat_map(|p| p.to_array()).map(|c| (linear_to_srgb(c) * 65535.0 + 0.5) as u16).collect()
     }
 
     /// Mean absolute difference per channel: the distance used by image comparisons.

@@ -55,15 +55,10 @@ impl Light {
             outer_angle: 0.0,
         };
         match *desc {
-            LightDesc::Point { position, color, attenuation } => {
-                Self { position, color, attenuation, ..base }
+            LightDesc::Point { position, color, attenuation } => Self { position, color, attenuation, ..base },
+            LightDesc::Directional { direction, color } => {
+                Self { kind: LightKind::Directional, direction: direction.normalize(), color, ..base }
             }
-            LightDesc::Directional { direction, color } => Self {
-                kind: LightKind::Directional,
-                direction: direction.normalize(),
-                color,
-                ..base
-            },
             LightDesc::Spot { position, direction, color, attenuation, angle_degrees, penumbra_degrees } => {
                 let outer = angle_degrees.to_radians();
                 Self {

@@ -73,7 +73,10 @@ pub enum CompileError {
 }
 
 fn invalid(origin: &str, message: impl Into<String>) -> CompileError {
-    CompileError::Invalid { origin: if origin.is_empty() { "scene".into() } else { origin.into() }, message: message.into() }
+    CompileError::Invalid {
+        origin: if origin.is_empty() { "scene".into() } else { origin.into() },
+        message: message.into(),
+    }
 }
 
 /// Largest image side and pixel count accepted: beyond this the film alone would not fit
@@ -88,7 +91,12 @@ pub fn compile(desc: &SceneDesc) -> Result<RenderScene, CompileError> {
     let settings = compile_settings(desc)?;
     let camera = Camera::new(&desc.camera, settings.width as f32 / settings.height as f32)
         .filter(|_| finite_camera(desc))
-        .ok_or_else(|| invalid("camera", "eye, look and up must be finite, look and up non-zero and not parallel, and 0 < fov < 180"))?;
+        .ok_or_else(|| {
+            invalid(
+                "camera",
+                "eye, look and up must be finite, look and up non-zero and not parallel, and 0 < fov < 180",
+            )
+        })?;
 
     let mut texels = Vec::new();
     let textures: Vec<Texture> = desc.textures.iter().map(|t| Texture::compile(t, &mut texels)).collect();
@@ -102,14 +110,17 @@ pub fn compile(desc: &SceneDesc) -> Result<RenderScene, CompileError> {
             }
             let mat = Material::compile(m, texture);
             let numbers = [mat.ambient, mat.diffuse, mat.specular, mat.reflective, mat.transmissive];
-            if !numbers.iter().all(|v| v.is_finite()) || !(mat.shininess.is_finite() && mat.ior.is_finite() && mat.ior > 0.0) {
+            let finite = numbers.iter().all(|v| v.is_finite()) && mat.shininess.is_finite() && mat.ior.is_finite();
+            if !(finite && mat.ior > 0.0) {
                 return Err(invalid(&m.name, "material values must be finite numbers and ior > 0"));
             }
             Ok(mat)
         })
         .collect::<Result<_, _>>()?;
     let lights = desc.lights.iter().map(Light::compile).collect::<Vec<_>>();
-    if lights.iter().any(|l| !(l.color.is_finite() && l.position.is_finite() && l.direction.is_finite() && l.attenuation.is_finite())) {
+    if lights.iter().any(|l| {
+        !(l.color.is_finite() && l.position.is_finite() && l.direction.is_finite() && l.attenuation.is_finite())
+    }) {
         return Err(invalid("lights", "light values must be finite and directions non-zero"));
     }
 
@@ -125,7 +136,18 @@ pub fn compile(desc: &SceneDesc) -> Result<RenderScene, CompileError> {
     instances.extend(unbounded);
 
     let has_transmissive = materials.iter().any(Material::is_transmissive);
-    Ok(RenderScene { settings, camera, instances, bounded_count, bvh, materials, lights, textures, texels, has_transmissive })
+    Ok(RenderScene {
+        settings,
+        camera,
+        instances,
+        bounded_count,
+        bvh,
+        materials,
+        lights,
+        textures,
+        texels,
+        has_transmissive,
+    })
 }
 
 fn finite_camera(desc: &SceneDesc) -> bool {
@@ -139,7 +161,10 @@ fn compile_settings(desc: &SceneDesc) -> Result<Settings, CompileError> {
     if s.width == 0 || s.height == 0 || s.width > MAX_IMAGE_SIDE || s.height > MAX_IMAGE_SIDE || pixels > MAX_PIXELS {
         return Err(invalid(
             "settings",
-            format!("image size {}x{} is out of range (1..={MAX_IMAGE_SIDE} per side, at most {MAX_PIXELS} pixels)", s.width, s.height),
+            format!(
+                "image size {}x{} is out of range (1..={MAX_IMAGE_SIDE} per side, at most {MAX_PIXELS} pixels)",
+                s.width, s.height
+            ),
         ));
     }
     if !(1..=64).contains(&s.samples_per_axis) {
@@ -166,7 +191,11 @@ fn node_transform(ops: &[TransformOp], origin: &str) -> Result<Transform, Compil
             TransformOp::Translate(v) => v.is_finite().then(|| Transform::translate(v)),
             TransformOp::Scale(s) => Transform::scale(s),
             TransformOp::Rotate { axis, degrees } => {
-                if degrees.is_finite() && axis.is_finite() { Transform::rotate(axis, degrees) } else { None }
+                if degrees.is_finite() && axis.is_finite() {
+                    Transform::rotate(axis, degrees)
+                } else {
+                    None
+                }
             }
             TransformOp::Matrix(rows) => Transform::from_matrix(Mat4::from_cols_array_2d(&rows).transpose()),
         };
@@ -175,7 +204,12 @@ fn node_transform(ops: &[TransformOp], origin: &str) -> Result<Transform, Compil
     })
 }
 
-fn flatten(node: &NodeDesc, parent: &Transform, material_count: usize, out: &mut Vec<Instance>) -> Result<(), CompileError> {
+fn flatten(
+    node: &NodeDesc,
+    parent: &Transform,
+    material_count: usize,
+    out: &mut Vec<Instance>,
+) -> Result<(), CompileError> {
     let transform = node_transform(&node.transform, &node.origin)?.then(parent);
     if !(transform.world_from_object.is_finite() && transform.object_from_world.is_finite()) {
         return Err(invalid(&node.origin, "the accumulated transform overflows"));
@@ -199,7 +233,10 @@ fn flatten(node: &NodeDesc, parent: &Transform, material_count: usize, out: &mut
                 ShapeDesc::Disk => Shape::new(ShapeKind::Disk),
                 ShapeDesc::Torus { minor_radius } => {
                     if !(minor_radius > 0.0 && minor_radius < 1.0) {
-                        return Err(invalid(&node.origin, format!("torus minor radius {minor_radius} must be in (0, 1)")));
+                        return Err(invalid(
+                            &node.origin,
+                            format!("torus minor radius {minor_radius} must be in (0, 1)"),
+                        ));
                     }
                     Shape::torus(minor_radius)
                 }

@@ -91,12 +91,7 @@ mod tests {
 
     #[test]
     fn checker_alternates_and_repeats() {
-        let desc = TextureDesc::Checker {
-            name: "c".into(),
-            even: Vec3::ONE,
-            odd: Vec3::ZERO,
-            cells: Vec2::splat(2.0),
-        };
+        let desc = TextureDesc::Checker { name: "c".into(), even: Vec3::ONE, odd: Vec3::ZERO, cells: Vec2::splat(2.0) };
         let t = Texture::compile(&desc, &mut Vec::new());
         assert_eq!(t.sample(Vec2::new(0.1, 0.1), &[]), Vec3::ONE);
         assert_eq!(t.sample(Vec2::new(0.6, 0.1), &[]), Vec3::ZERO);

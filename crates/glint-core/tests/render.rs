@@ -71,7 +71,13 @@ fn diffuse_term_alone_follows_lamberts_cosine() {
 fn specular_term_alone_is_phong() {
     // Viewer on the normal, light at θ: r·v = cos θ, so the highlight is cos(θ)^n.
     for (degrees, n) in [(0.0f32, 10.0f32), (30.0, 2.0), (45.0, 8.0)] {
-        let m = MaterialDesc { ks: 0.5, specular: Vec3::new(1.0, 0.5, 0.25), shininess: n, ambient: Some(Vec3::ZERO), ..black() };
+        let m = MaterialDesc {
+            ks: 0.5,
+            specular: Vec3::new(1.0, 0.5, 0.25),
+            shininess: n,
+            ambient: Some(Vec3::ZERO),
+            ..black()
+        };
         let got = pixel(&facing_plane(m, vec![light_at(degrees)], Vec3::ZERO, Vec3::ZERO));
         assert_close(got, 0.5 * Vec3::new(1.0, 0.5, 0.25) * degrees.to_radians().cos().powf(n));
     }
@@ -80,7 +86,11 @@ fn specular_term_alone_is_phong() {
 #[test]
 fn point_light_attenuation() {
     let m = MaterialDesc { diffuse: Vec3::ONE, ambient: Some(Vec3::ZERO), ..black() };
-    let light = LightDesc::Point { position: Vec3::new(0.0, 0.0, 4.0), color: Vec3::ONE, attenuation: Vec3::new(1.0, 0.5, 0.25) };
+    let light = LightDesc::Point {
+        position: Vec3::new(0.0, 0.0, 4.0),
+        color: Vec3::ONE,
+        attenuation: Vec3::new(1.0, 0.5, 0.25),
+    };
     let got = pixel(&facing_plane(m, vec![light], Vec3::ZERO, Vec3::ZERO));
     assert_close(got, Vec3::splat(1.0 / (1.0 + 0.5 * 4.0 + 0.25 * 16.0)));
 }
@@ -103,8 +113,17 @@ fn transmitted_term_alone_shows_what_is_behind() {
 fn recursion_stops_at_max_depth() {
     // Two facing mirrors: each bounce multiplies by 0.5, the background is never seen,
     // so the pixel is the sum of the ambient terms of the bounces traced.
-    let mut desc = facing_plane(MaterialDesc { ka: 1.0, ambient: Some(Vec3::ONE), reflective: Some(Vec3::splat(0.5)), ..black() }, vec![], Vec3::ONE, Vec3::ZERO);
-    desc.objects.push(node(ShapeDesc::Plane, 0, vec![TransformOp::Rotate { axis: Vec3::X, degrees: -90.0 }, TransformOp::Translate(Vec3::new(0.0, 0.0, 10.0))]));
+    let mut desc = facing_plane(
+        MaterialDesc { ka: 1.0, ambient: Some(Vec3::ONE), reflective: Some(Vec3::splat(0.5)), ..black() },
+        vec![],
+        Vec3::ONE,
+        Vec3::ZERO,
+    );
+    desc.objects.push(node(
+        ShapeDesc::Plane,
+        0,
+        vec![TransformOp::Rotate { axis: Vec3::X, degrees: -90.0 }, TransformOp::Translate(Vec3::new(0.0, 0.0, 10.0))],
+    ));
     desc.settings.min_contribution = 0.0;
     for depth in [0u32, 1, 3] {
         desc.settings.max_depth = depth;
@@ -122,7 +141,11 @@ fn opaque_occluders_cast_shadows_and_transparent_ones_filter() {
     // through it too, so make it a pane the camera sees through unchanged: ior 1, kt 1,
     // but Ot = 0.5 halves both the light and the view; check both separately below.
     desc.materials.push(MaterialDesc { kt: 1.0, transmissive: Vec3::splat(0.5), ..black() });
-    desc.objects.push(node(ShapeDesc::Disk, 1, vec![TransformOp::Rotate { axis: Vec3::X, degrees: 90.0 }, TransformOp::Translate(Vec3::new(0.0, 0.0, 1.0))]));
+    desc.objects.push(node(
+        ShapeDesc::Disk,
+        1,
+        vec![TransformOp::Rotate { axis: Vec3::X, degrees: 90.0 }, TransformOp::Translate(Vec3::new(0.0, 0.0, 1.0))],
+    ));
     // Light filtered once (0.5), then seen through the pane (0.5).
     assert_close(pixel(&desc), Vec3::splat(0.25));
     // An opaque pane blocks the light; the camera sees the pane itself (black).
@@ -133,12 +156,23 @@ fn opaque_occluders_cast_shadows_and_transparent_ones_filter() {
 #[test]
 fn textures_blend_into_the_diffuse_colour() {
     let mut desc = facing_plane(
-        MaterialDesc { diffuse: Vec3::new(1.0, 0.0, 0.0), ambient: Some(Vec3::ZERO), texture: Some(0), blend: 0.25, ..black() },
+        MaterialDesc {
+            diffuse: Vec3::new(1.0, 0.0, 0.0),
+            ambient: Some(Vec3::ZERO),
+            texture: Some(0),
+            blend: 0.25,
+            ..black()
+        },
         vec![light_at(0.0)],
         Vec3::ZERO,
         Vec3::ZERO,
     );
-    desc.textures.push(TextureDesc::Checker { name: "c".into(), even: Vec3::new(0.0, 1.0, 0.0), odd: Vec3::ZERO, cells: Vec2::ONE });
+    desc.textures.push(TextureDesc::Checker {
+        name: "c".into(),
+        even: Vec3::new(0.0, 1.0, 0.0),
+        odd: Vec3::ZERO,
+        cells: Vec2::ONE,
+    });
     // The plane's uv at the centre pixel is (0, 0): the "even" cell.
     assert_close(pixel(&desc), 0.75 * Vec3::new(1.0, 0.0, 0.0) + 0.25 * Vec3::new(0.0, 1.0, 0.0));
 }
@@ -150,12 +184,29 @@ fn textures_blend_into_the_diffuse_colour() {
 fn sphere_at_scale(material: MaterialDesc, scale: f32, offset: Vec3) -> SceneDesc {
     let background = Vec3::new(0.25, 0.5, 1.0);
     SceneDesc {
-        settings: RenderSettings { width: 48, height: 48, background, ambient_light: Vec3::ZERO, max_depth: 8, min_contribution: 0.0, ..Default::default() },
-        camera: CameraDesc { eye: offset + Vec3::new(0.3, 0.2, 4.0) * scale, look: Vec3::NEG_Z, up: Vec3::Y, fov_y_degrees: 40.0 },
+        settings: RenderSettings {
+            width: 48,
+            height: 48,
+            background,
+            ambient_light: Vec3::ZERO,
+            max_depth: 8,
+            min_contribution: 0.0,
+            ..Default::default()
+        },
+        camera: CameraDesc {
+            eye: offset + Vec3::new(0.3, 0.2, 4.0) * scale,
+            look: Vec3::NEG_Z,
+            up: Vec3::Y,
+            fov_y_degrees: 40.0,
+        },
         lights: vec![],
         materials: vec![material],
         textures: vec![],
-        objects: vec![node(ShapeDesc::Sphere, 0, vec![TransformOp::Scale(Vec3::splat(scale)), TransformOp::Translate(offset)])],
+        objects: vec![node(
+            ShapeDesc::Sphere,
+            0,
+            vec![TransformOp::Scale(Vec3::splat(scale)), TransformOp::Translate(offset)],
+        )],
     }
 }
 
@@ -163,7 +214,9 @@ fn sphere_at_scale(material: MaterialDesc, scale: f32, offset: Vec3) -> SceneDes
 fn no_self_intersection_at_any_scale() {
     let mirror = MaterialDesc { reflective: Some(Vec3::splat(0.5)), ..black() };
     let glass = MaterialDesc { transmissive: Vec3::splat(0.5), ior: 1.5, ..black() };
-    for (scale, offset) in [(1.0, Vec3::ZERO), (1e-4, Vec3::ZERO), (1e-3, Vec3::splat(0.5)), (1e4, Vec3::ZERO), (100.0, Vec3::splat(1e5))] {
+    for (scale, offset) in
+        [(1.0, Vec3::ZERO), (1e-4, Vec3::ZERO), (1e-3, Vec3::splat(0.5)), (1e4, Vec3::ZERO), (100.0, Vec3::splat(1e5))]
+    {
         for (material, factor) in [(mirror.clone(), 0.5), (glass.clone(), 0.25)] {
             let desc = sphere_at_scale(material, scale, offset);
             let b = desc.settings.background;
@@ -171,7 +224,11 @@ fn no_self_intersection_at_any_scale() {
             let on_sphere: Vec<Vec3> = image.pixels.iter().copied().filter(|&p| p != b).collect();
             assert!(on_sphere.len() > 500, "the sphere fills the view");
             for p in on_sphere {
-                assert!((p - factor * b).abs().max_element() < 1e-6, "scale {scale}, offset {offset}: pixel {p}, want {}", factor * b);
+                assert!(
+                    (p - factor * b).abs().max_element() < 1e-6,
+                    "scale {scale}, offset {offset}: pixel {p}, want {}",
+                    factor * b
+                );
             }
         }
     }
@@ -182,15 +239,25 @@ fn no_self_intersection_at_any_scale() {
 #[test]
 fn no_shadow_acne_at_any_scale() {
     let l = Vec3::new(1.0, 1.0, 0.2).normalize();
-    for (scale, offset) in [(1.0f32, Vec3::ZERO), (1e-4, Vec3::ZERO), (1e4, Vec3::splat(3e4)), (1.0, Vec3::splat(1e4))] {
+    for (scale, offset) in [(1.0f32, Vec3::ZERO), (1e-4, Vec3::ZERO), (1e4, Vec3::splat(3e4)), (1.0, Vec3::splat(1e4))]
+    {
         let m = MaterialDesc { diffuse: Vec3::ONE, ambient: Some(Vec3::ZERO), ..black() };
         let desc = SceneDesc {
             settings: RenderSettings { width: 48, height: 48, ambient_light: Vec3::ZERO, ..Default::default() },
-            camera: CameraDesc { eye: offset + Vec3::new(0.0, 0.0, 4.0 * scale), look: Vec3::NEG_Z, up: Vec3::Y, fov_y_degrees: 40.0 },
+            camera: CameraDesc {
+                eye: offset + Vec3::new(0.0, 0.0, 4.0 * scale),
+                look: Vec3::NEG_Z,
+                up: Vec3::Y,
+                fov_y_degrees: 40.0,
+            },
             lights: vec![LightDesc::Directional { direction: -l, color: Vec3::ONE }],
             materials: vec![m],
             textures: vec![],
-            objects: vec![node(ShapeDesc::Sphere, 0, vec![TransformOp::Scale(Vec3::splat(scale)), TransformOp::Translate(offset)])],
+            objects: vec![node(
+                ShapeDesc::Sphere,
+                0,
+                vec![TransformOp::Scale(Vec3::splat(scale)), TransformOp::Translate(offset)],
+            )],
         };
         let scene = compile(&desc).unwrap();
         let image = render_desc(&desc);
@@ -213,24 +280,62 @@ fn no_shadow_acne_at_any_scale() {
 
 fn busy_scene() -> SceneDesc {
     let mut materials = vec![
-        MaterialDesc { diffuse: Vec3::new(0.8, 0.3, 0.2), specular: Vec3::splat(0.5), reflective: Some(Vec3::splat(0.2)), ..Default::default() },
-        MaterialDesc { diffuse: Vec3::ZERO, transmissive: Vec3::splat(0.9), ior: 1.5, specular: Vec3::ONE, shininess: 100.0, ..Default::default() },
+        MaterialDesc {
+            diffuse: Vec3::new(0.8, 0.3, 0.2),
+            specular: Vec3::splat(0.5),
+            reflective: Some(Vec3::splat(0.2)),
+            ..Default::default()
+        },
+        MaterialDesc {
+            diffuse: Vec3::ZERO,
+            transmissive: Vec3::splat(0.9),
+            ior: 1.5,
+            specular: Vec3::ONE,
+            shininess: 100.0,
+            ..Default::default()
+        },
     ];
     materials.push(MaterialDesc { diffuse: Vec3::new(0.2, 0.7, 0.3), ..Default::default() });
-    let shapes = [ShapeDesc::Sphere, ShapeDesc::Cube, ShapeDesc::Cylinder, ShapeDesc::Cone, ShapeDesc::Torus { minor_radius: 0.3 }, ShapeDesc::Disk];
+    let shapes = [
+        ShapeDesc::Sphere,
+        ShapeDesc::Cube,
+        ShapeDesc::Cylinder,
+        ShapeDesc::Cone,
+        ShapeDesc::Torus { minor_radius: 0.3 },
+        ShapeDesc::Disk,
+    ];
     let mut objects: Vec<NodeDesc> = (0..24)
         .map(|i| {
             let pos = Vec3::new((i % 6) as f32 * 2.2 - 5.5, 1.0, (i / 6) as f32 * -2.5);
-            node(shapes[i % shapes.len()], i % 3, vec![TransformOp::Rotate { axis: Vec3::new(1.0, 2.0, 0.5), degrees: 17.0 * i as f32 }, TransformOp::Translate(pos)])
+            node(
+                shapes[i % shapes.len()],
+                i % 3,
+                vec![
+                    TransformOp::Rotate { axis: Vec3::new(1.0, 2.0, 0.5), degrees: 17.0 * i as f32 },
+                    TransformOp::Translate(pos),
+                ],
+            )
         })
         .collect();
     objects.push(node(ShapeDesc::Plane, 2, vec![]));
     SceneDesc {
         settings: RenderSettings { width: 96, height: 64, samples_per_axis: 2, ..Default::default() },
-        camera: CameraDesc { eye: Vec3::new(0.0, 4.0, 9.0), look: Vec3::new(0.0, -0.4, -1.0), up: Vec3::Y, fov_y_degrees: 50.0 },
+        camera: CameraDesc {
+            eye: Vec3::new(0.0, 4.0, 9.0),
+            look: Vec3::new(0.0, -0.4, -1.0),
+            up: Vec3::Y,
+            fov_y_degrees: 50.0,
+        },
         lights: vec![
             LightDesc::Point { position: Vec3::new(4.0, 8.0, 6.0), color: Vec3::ONE, attenuation: Vec3::X },
-            LightDesc::Spot { position: Vec3::new(-4.0, 6.0, 2.0), direction: Vec3::new(0.5, -1.0, -0.5), color: Vec3::splat(0.7), attenuation: Vec3::X, angle_degrees: 35.0, penumbra_degrees: 8.0 },
+            LightDesc::Spot {
+                position: Vec3::new(-4.0, 6.0, 2.0),
+                direction: Vec3::new(0.5, -1.0, -0.5),
+                color: Vec3::splat(0.7),
+                attenuation: Vec3::X,
+                angle_degrees: 35.0,
+                penumbra_degrees: 8.0,
+            },
         ],
         materials,
         textures: vec![],
@@ -247,7 +352,12 @@ fn image_is_bit_identical_for_any_thread_count() {
     };
     let (one, stats_one) = run(1);
     let (three, stats_three) = run(3);
-    assert!(one.pixels.iter().zip(&three.pixels).all(|(a, b)| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits)));
+    assert!(
+        one.pixels
+            .iter()
+            .zip(&three.pixels)
+            .all(|(a, b)| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits))
+    );
     assert_eq!(stats_one, stats_three);
     // And it is not a blank image.
     assert!(one.pixels.iter().any(|p| p.x > 0.2) && one.pixels.iter().all(|p| p.is_finite()));

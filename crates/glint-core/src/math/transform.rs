@@ -23,22 +23,16 @@ impl Default for Transform {
 }
 
 impl Transform {
-    pub const IDENTITY: Transform =
-        Transform { world_from_object: Mat4::IDENTITY, object_from_world: Mat4::IDENTITY };
+    pub const IDENTITY: Transform = Transform { world_from_object: Mat4::IDENTITY, object_from_world: Mat4::IDENTITY };
 
     pub fn translate(v: Vec3) -> Self {
-        Self {
-            world_from_object: Mat4::from_translation(v),
-            object_from_world: Mat4::from_translation(-v),
-        }
+        Self { world_from_object: Mat4::from_translation(v), object_from_world: Mat4::from_translation(-v) }
     }
 
     /// Non-uniform scale; `None` when a factor is zero (the transform has no inverse).
     pub fn scale(s: Vec3) -> Option<Self> {
-        (s.cmpne(Vec3::ZERO).all() && s.is_finite()).then(|| Self {
-            world_from_object: Mat4::from_scale(s),
-            object_from_world: Mat4::from_scale(s.recip()),
-        })
+        (s.cmpne(Vec3::ZERO).all() && s.is_finite())
+            .then(|| Self { world_from_object: Mat4::from_scale(s), object_from_world: Mat4::from_scale(s.recip()) })
     }
 
     /// Right-handed rotation about `axis`; `None` for a zero-length axis.
@@ -53,9 +47,8 @@ impl Transform {
     pub fn from_matrix(m: Mat4) -> Option<Self> {
         let affine = m.row(3) == glam::Vec4::W;
         let det = m.determinant();
-        (affine && det.is_finite() && det.abs() > f32::MIN_POSITIVE && m.is_finite()).then(|| {
-            Self { world_from_object: m, object_from_world: m.inverse() }
-        })
+        (affine && det.is_finite() && det.abs() > f32::MIN_POSITIVE && m.is_finite())
+            .then(|| Self { world_from_object: m, object_from_world: m.inverse() })
     }
 
     /// `self` applied first, then `outer`: the matrix `outer · self`.

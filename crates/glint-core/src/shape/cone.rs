@@ -25,9 +25,7 @@ impl Primitive for Cone {
         let c = o.x * o.x + o.z * o.z - 0.25 * oy * oy;
         if let Some((s0, s1)) = solve_quadratic(a, b, c) {
             // Keep only the lower nappe between base and apex.
-            let t = nearest_root([t0 + s0, t0 + s1], t_max, |t| {
-                (-1.0..=1.0).contains(&ray.at(t).y)
-            });
+            let t = nearest_root([t0 + s0, t0 + s1], t_max, |t| (-1.0..=1.0).contains(&ray.at(t).y));
             best = t.map(|t| ShapeHit { t, part: BODY });
         }
         if ray.dir.y != 0.0 {

@@ -29,9 +29,7 @@ impl Primitive for Cylinder {
             let discriminant = 1.0 - (cx * cx + cz * cz);
             if discriminant >= 0.0 {
                 let h = (discriminant / a).sqrt();
-                if let Some(t) = nearest_root([t0 - h, t0 + h], t_max, |t| {
-                    (o.y + t * d.y).abs() <= 1.0
-                }) {
+                if let Some(t) = nearest_root([t0 - h, t0 + h], t_max, |t| (o.y + t * d.y).abs() <= 1.0) {
                     consider(t, BODY);
                 }
             }

@@ -93,13 +93,34 @@ impl Shape {
 macro_rules! dispatch {
     ($shape:expr, $prim:ident => $body:expr) => {
         match $shape.kind {
-            ShapeKind::Sphere => { let $prim = Sphere; $body }
-            ShapeKind::Cube => { let $prim = Cube; $body }
-            ShapeKind::Cylinder => { let $prim = Cylinder; $body }
-            ShapeKind::Cone => { let $prim = Cone; $body }
-            ShapeKind::Plane => { let $prim = Plane; $body }
-            ShapeKind::Disk => { let $prim = Disk; $body }
-            ShapeKind::Torus => { let $prim = Torus { minor_radius: $shape.param }; $body }
+            ShapeKind::Sphere => {
+                let $prim = Sphere;
+                $body
+            }
+            ShapeKind::Cube => {
+                let $prim = Cube;
+                $body
+            }
+            ShapeKind::Cylinder => {
+                let $prim = Cylinder;
+                $body
+            }
+            ShapeKind::Cone => {
+                let $prim = Cone;
+                $body
+            }
+            ShapeKind::Plane => {
+                let $prim = Plane;
+                $body
+            }
+            ShapeKind::Disk => {
+                let $prim = Disk;
+                $body
+            }
+            ShapeKind::Torus => {
+                let $prim = Torus { minor_radius: $shape.param };
+                $body
+            }
         }
     };
 }
@@ -121,11 +142,7 @@ impl Primitive for Shape {
 
 /// The nearer of two candidate roots that lies in `(0, t_max)` and passes `accept`.
 #[inline]
-pub(crate) fn nearest_root(
-    roots: [f32; 2],
-    t_max: f32,
-    mut accept: impl FnMut(f32) -> bool,
-) -> Option<f32> {
+pub(crate) fn nearest_root(roots: [f32; 2], t_max: f32, mut accept: impl FnMut(f32) -> bool) -> Option<f32> {
     roots.into_iter().find(|&t| t > 0.0 && t < t_max && accept(t))
 }
 

@@ -146,7 +146,12 @@ fn world_space_first_crossing(shape: Shape, xf: &Transform, ray: &Ray, t_end: f6
     None
 }
 
-fn transform_from(scale: (f32, f32, f32), axis: (f32, f32, f32), degrees: f32, offset: (f32, f32, f32)) -> Option<Transform> {
+fn transform_from(
+    scale: (f32, f32, f32),
+    axis: (f32, f32, f32),
+    degrees: f32,
+    offset: (f32, f32, f32),
+) -> Option<Transform> {
     Some(
         Transform::scale(Vec3::new(scale.0, scale.1, scale.2))?
             .then(&Transform::rotate(Vec3::new(axis.0, axis.1, axis.2), degrees)?)
