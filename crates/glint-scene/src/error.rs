@@ -47,13 +47,7 @@ impl SceneError {
         column: u32,
         message: impl Into<String>,
     ) -> Self {
-        Self {
-            kind,
-            file: file.into(),
-            line,
-            column,
-            message: message.into(),
-        }
+        Self { kind, file: file.into(), line, column, message: message.into() }
     }
 
     /// The 1-based line the error points at (0 for whole-file errors), for tests and tools
@@ -69,19 +63,11 @@ impl SceneError {
 
     /// `file:line:column` (or just `file` for whole-file errors), the prefix of `Display`.
     pub fn location(&self) -> String {
-        if self.line == 0 {
-            self.file.clone()
-        } else {
-            format!("{}:{}:{}", self.file, self.line, self.column)
-        }
+        if self.line == 0 { self.file.clone() } else { format!("{}:{}:{}", self.file, self.line, self.column) }
     }
 }
 
 /// The `FILE:LINE:COL: ` prefix of [`SceneError`]'s `Display`.
 fn location_prefix(file: &str, line: &u32, column: &u32) -> String {
-    if *line == 0 {
-        format!("{file}: ")
-    } else {
-        format!("{file}:{line}:{column}: ")
-    }
+    if *line == 0 { format!("{file}: ") } else { format!("{file}:{line}:{column}: ") }
 }

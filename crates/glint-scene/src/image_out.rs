@@ -48,9 +48,8 @@ pub enum WriteError {
 /// Encodes `image` as `format` and atomically places it at `path`.
 pub fn write_image(image: &Image, path: &Path, format: OutputFormat) -> Result<(), WriteError> {
     let tmp = temp_sibling(path);
-    let result = encode(image, &tmp, format).and_then(|()| {
-        fs::rename(&tmp, path).map_err(|source| WriteError::Io { path: path.to_owned(), source })
-    });
+    let result = encode(image, &tmp, format)
+        .and_then(|()| fs::rename(&tmp, path).map_err(|source| WriteError::Io { path: path.to_owned(), source }));
     if result.is_err() {
         let _ = fs::remove_file(&tmp);
     }
@@ -68,11 +67,13 @@ fn encode(image: &Image, tmp: &Path, format: OutputFormat) -> Result<(), WriteEr
     let (w, h) = (image.width, image.height);
     match format {
         OutputFormat::Png8 => {
-            let buf: ImageBuffer<Rgb<u8>, _> = ImageBuffer::from_raw(w, h, image.to_srgb8()).expect("buffer size matches");
+            let buf: ImageBuffer<Rgb<u8>, _> =
+                ImageBuffer::from_raw(w, h, image.to_srgb8()).expect("buffer size matches");
             buf.save_with_format(tmp, ImageFormat::Png).map_err(enc_err)
         }
         OutputFormat::Png16 => {
-            let buf: ImageBuffer<Rgb<u16>, _> = ImageBuffer::from_raw(w, h, image.to_srgb16()).expect("buffer size matches");
+            let buf: ImageBuffer<Rgb<u16>, _> =
+                ImageBuffer::from_raw(w, h, image.to_srgb16()).expect("buffer size matches");
             buf.save_with_format(tmp, ImageFormat::Png).map_err(enc_err)
         }
         OutputFormat::Exr => {
@@ -138,7 +139,10 @@ mod tests {
             assert!(img.mean_abs_diff(&back) < tolerance, "{name}: {}", img.mean_abs_diff(&back));
         }
         // No temporary files are left behind.
-        let leftovers = fs::read_dir(&dir).unwrap().filter(|e| e.as_ref().unwrap().file_name().to_string_lossy().ends_with(".tmp")).count();
+        let leftovers = fs::read_dir(&dir)
+            .unwrap()
+            .filter(|e| e.as_ref().unwrap().file_name().to_string_lossy().ends_with(".tmp"))
+            .count();
         assert_eq!(leftovers, 0);
         fs::remove_dir_all(&dir).unwrap();
     }

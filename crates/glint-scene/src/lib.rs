@@ -1,1 +1,12 @@
+//! glint-scene: scene files in and images out, for the glint renderer.
+//!
+//! Every importer produces a [`glint_core::desc::SceneDesc`]; this crate owns the files
+//! (the native `.glint` format and texture images) so that glint-core never touches I/O.
 
+pub mod error;
+pub mod image_out;
+pub mod native;
+pub mod texture_io;
+
+pub use error::{SceneError, SceneErrorKind};
+pub use native::{DEFAULT_SCENE_SOURCE, default_scene, load_scene, parse_scene};

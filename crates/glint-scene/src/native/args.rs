@@ -7,7 +7,7 @@ use glam::{Vec2, Vec3};
 
 use super::builder::Source;
 use super::lexer::Pos;
-use super::tree::{Node, ValueKind};
+use super::tree::{Node, Value, ValueKind};
 use crate::error::SceneError;
 
 /// Result of the builder stages.
@@ -16,10 +16,7 @@ pub type Result<T> = std::result::Result<T, SceneError>;
 /// Refuses a `{ … }` after a property that takes only values.
 pub fn no_block(src: &Source, node: &Node) -> Result<()> {
     match &node.block {
-        Some(block) => Err(src.invalid(
-            block.open,
-            format!("'{}' does not take a block", node.name),
-        )),
+        Some(block) => Err(src.invalid(block.open, format!("'{}' does not take a block", node.name))),
         None => Ok(()),
     }
 }
@@ -29,11 +26,7 @@ pub fn no_values(src: &Source, node: &Node) -> Result<()> {
     match node.args.first() {
         Some(value) => Err(src.invalid(
             value.pos,
-            format!(
-                "'{}' takes no values, found {}; write its properties inside {{ … }}",
-                node.name,
-                value.describe()
-            ),
+            format!("'{}' takes no values, found {}; write its properties inside {{ … }}", node.name, value.describe()),
         )),
         None => Ok(()),
     }
@@ -57,6 +50,8 @@ fn describe_counts(counts: &[usize]) -> String {
 pub fn numbers(src: &Source, node: &Node, counts: &[usize]) -> Result<Vec<f32>> {
     no_block(src, node)?;
     let wanted = describe_counts(counts);
+    // A count mismatch points at the property; a value of the wrong type at the value.
+    let mut at = node.pos();
     let found = match node.args.as_slice() {
         [] => "none".to_owned(),
         [value] => match &value.kind {
@@ -66,23 +61,17 @@ pub fn numbers(src: &Source, node: &Node, counts: &[usize]) -> Result<Vec<f32>> 
                 return Ok(items.iter().map(|x| *x as f32).collect());
             }
             ValueKind::Vector(items) => items.len().to_string(),
-            _ => value.describe(),
+            _ => {
+                at = value.pos;
+                value.describe()
+            }
         },
-        many if many
-            .iter()
-            .all(|v| matches!(v.kind, ValueKind::Number(_))) =>
-        {
-            format!(
-                "{} separate numbers; write a vector in brackets, like [1 2 3]",
-                many.len()
-            )
+        many if many.iter().all(|v| matches!(v.kind, ValueKind::Number(_))) => {
+            format!("{} separate numbers; write a vector in brackets, like [1 2 3]", many.len())
         }
         many => format!("{} values", many.len()),
     };
-    Err(src.invalid(
-        node.pos(),
-        format!("expected {wanted} for '{}', found {found}", node.name),
-    ))
+    Err(src.invalid(at, format!("expected {wanted} for '{}', found {found}", node.name)))
 }
 
 /// A single number.
@@ -91,21 +80,9 @@ pub fn number(src: &Source, node: &Node) -> Result<f32> {
 }
 
 /// A single number that must satisfy `ok`; `rule` says what is allowed ("greater than 0").
-pub fn number_where(
-    src: &Source,
-    node: &Node,
-    rule: &str,
-    ok: impl Fn(f32) -> bool,
-) -> Result<f32> {
+pub fn number_where(src: &Source, node: &Node, rule: &str, ok: impl Fn(f32) -> bool) -> Result<f32> {
     let x = number(src, node)?;
-    if ok(x) {
-        Ok(x)
-    } else {
-        Err(src.invalid(
-            value_pos(node),
-            format!("'{}' must be {rule}, found {x}", node.name),
-        ))
-    }
+    if ok(x) { Ok(x) } else { Err(src.invalid(value_pos(node), format!("'{}' must be {rule}, found {x}", node.name))) }
 }
 
 /// A whole number in `min..=max` (image size, sample count, …).
@@ -114,10 +91,7 @@ pub fn whole(src: &Source, node: &Node, min: u32, max: u32) -> Result<u32> {
     if x.fract() != 0.0 || x < f64::from(min) || x > f64::from(max) {
         return Err(src.invalid(
             value_pos(node),
-            format!(
-                "'{}' must be a whole number from {min} to {max}, found {x}",
-                node.name
-            ),
+            format!("'{}' must be a whole number from {min} to {max}, found {x}", node.name),
         ));
     }
     Ok(x as u32)
@@ -135,10 +109,7 @@ pub fn direction(src: &Source, node: &Node) -> Result<Vec3> {
     if v.length_squared() > 0.0 && v.length_squared().is_finite() {
         Ok(v)
     } else {
-        Err(src.invalid(
-            value_pos(node),
-            format!("'{}' must be a non-zero, finite direction, found {v}", node.name),
-        ))
+        Err(src.invalid(value_pos(node), format!("'{}' must be a non-zero, finite direction, found {v}", node.name)))
     }
 }
 
@@ -161,10 +132,7 @@ pub fn vec2_positive(src: &Source, node: &Node) -> Result<Vec2> {
     if v.min_element() > 0.0 {
         Ok(v)
     } else {
-        Err(src.invalid(
-            value_pos(node),
-            format!("'{}' must be greater than 0, found {v}", node.name),
-        ))
+        Err(src.invalid(value_pos(node), format!("'{}' must be greater than 0, found {v}", node.name)))
     }
 }
 
@@ -176,32 +144,22 @@ pub fn color(src: &Source, node: &Node) -> Result<Vec3> {
     } else {
         Err(src.invalid(
             value_pos(node),
-            format!(
-                "colour '{}' must not be negative, found {c}; components are 0 or more",
-                node.name
-            ),
+            format!("colour '{}' must not be negative, found {c}; components are 0 or more", node.name),
         ))
     }
 }
 
 /// The single quoted string of a node (`material "glass"`), with its position.
 pub fn string(src: &Source, node: &Node, what: &str) -> Result<(String, Pos)> {
-    if let [value] = node.args.as_slice() {
-        if let ValueKind::Str(text) = &value.kind {
-            return Ok((text.clone(), value.pos));
-        }
-    }
     let found = match node.args.as_slice() {
+        [Value { kind: ValueKind::Str(text), pos }] => return Ok((text.clone(), *pos)),
         [] => "nothing".to_owned(),
         [value] => value.describe(),
         many => format!("{} values", many.len()),
     };
     Err(src.invalid(
         value_pos(node),
-        format!(
-            "expected {what} in quotes after '{}', like {} \"name\", found {found}",
-            node.name, node.name
-        ),
+        format!("expected {what} in quotes after '{}', like {} \"name\", found {found}", node.name, node.name),
     ))
 }
 
@@ -238,12 +196,5 @@ impl Seen {
 ///
 /// `place` reads like "in 'sphere'" or "at the top level".
 pub fn unknown(src: &Source, node: &Node, what: &str, place: &str, allowed: &[&str]) -> SceneError {
-    src.invalid(
-        node.pos(),
-        format!(
-            "unknown {what} '{}' {place}; expected one of: {}",
-            node.name,
-            allowed.join(", ")
-        ),
-    )
+    src.invalid(node.pos(), format!("unknown {what} '{}' {place}; expected one of: {}", node.name, allowed.join(", ")))
 }

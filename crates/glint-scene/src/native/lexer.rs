@@ -80,10 +80,7 @@ pub struct SyntaxError {
 impl SyntaxError {
     /// Shorthand used throughout the lexer and parser.
     pub fn new(pos: Pos, message: impl Into<String>) -> Self {
-        Self {
-            pos,
-            message: message.into(),
-        }
+        Self { pos, message: message.into() }
     }
 }
 
@@ -95,6 +92,11 @@ const NON_FINITE_WORDS: [&str; 3] = ["nan", "inf", "infinity"];
 const NUMBER_FORMS: &str = "numbers look like 1, -2.5, .5 or 1e-3";
 
 /// Splits `source` into tokens, ending with [`Tok::Eof`].
+///
+/// # Errors
+///
+/// The first malformed token: an unexpected character, an unterminated string, an
+/// unknown escape, or a number that is malformed, out of `f32` range, or not finite.
 pub fn tokenize(source: &str) -> Result<Vec<Token>, SyntaxError> {
     let mut lexer = Lexer {
         chars: source.strip_prefix('\u{feff}').unwrap_or(source).chars().collect(),
@@ -106,11 +108,7 @@ pub fn tokenize(source: &str) -> Result<Vec<Token>, SyntaxError> {
         lexer.skip_blanks();
         let start = lexer.pos;
         let Some(c) = lexer.peek(0) else {
-            tokens.push(Token {
-                tok: Tok::Eof,
-                pos: start,
-                end: start,
-            });
+            tokens.push(Token { tok: Tok::Eof, pos: start, end: start });
             return Ok(tokens);
         };
         let tok = match c {
@@ -138,11 +136,7 @@ pub fn tokenize(source: &str) -> Result<Vec<Token>, SyntaxError> {
                 ));
             }
         };
-        tokens.push(Token {
-            tok,
-            pos: start,
-            end: lexer.pos,
-        });
+        tokens.push(Token { tok, pos: start, end: lexer.pos });
     }
 }
 
@@ -195,10 +189,7 @@ impl Lexer {
         loop {
             match self.peek(0) {
                 None | Some('\n') | Some('\r') => {
-                    return Err(SyntaxError::new(
-                        open,
-                        "unterminated string: add the closing '\"' on the same line",
-                    ));
+                    return Err(SyntaxError::new(open, "unterminated string: add the closing '\"' on the same line"));
                 }
                 Some('"') => {
                     self.bump();
@@ -213,15 +204,11 @@ impl Lexer {
                             text.push(c);
                         }
                         other => {
-                            let shown = other.map_or_else(
-                                || "end of line".to_owned(),
-                                |c| format!("'\\{}'", c.escape_debug()),
-                            );
+                            let shown =
+                                other.map_or_else(|| "end of line".to_owned(), |c| format!("'\\{}'", c.escape_debug()));
                             return Err(SyntaxError::new(
                                 escape_pos,
-                                format!(
-                                    "unknown escape {shown} in string; only \\\" and \\\\ are allowed"
-                                ),
+                                format!("unknown escape {shown} in string; only \\\" and \\\\ are allowed"),
                             ));
                         }
                     }
@@ -249,8 +236,7 @@ impl Lexer {
         if digits > 0
             && matches!(self.peek(0), Some('e' | 'E'))
             && (self.peek(1).is_some_and(|c| c.is_ascii_digit())
-                || (matches!(self.peek(1), Some('+' | '-'))
-                    && self.peek(2).is_some_and(|c| c.is_ascii_digit())))
+                || (matches!(self.peek(1), Some('+' | '-')) && self.peek(2).is_some_and(|c| c.is_ascii_digit())))
         {
             self.bump();
             if matches!(self.peek(0), Some('+' | '-')) {
@@ -259,28 +245,19 @@ impl Lexer {
             self.digits();
         }
         // Glued trailing characters ("1.2.3", "3px", "-x") make the whole word invalid.
-        while self
-            .peek(0)
-            .is_some_and(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '.' | '-'))
-        {
+        while self.peek(0).is_some_and(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '.' | '-')) {
             digits = 0;
             self.bump();
         }
         let text: String = self.chars[first..self.index].iter().collect();
         if digits == 0 {
-            return Err(SyntaxError::new(
-                start,
-                format!("'{text}' is not a number; {NUMBER_FORMS}"),
-            ));
+            return Err(SyntaxError::new(start, format!("'{text}' is not a number; {NUMBER_FORMS}")));
         }
         match text.parse::<f64>() {
             Ok(value) if value.is_finite() && (value as f32).is_finite() => Ok(Tok::Number(value)),
             _ => Err(SyntaxError::new(
                 start,
-                format!(
-                    "number {text} is out of range; numbers must lie within ±{:e}",
-                    f32::MAX
-                ),
+                format!("number {text} is out of range; numbers must lie within ±{:e}", f32::MAX),
             )),
         }
     }
@@ -299,10 +276,7 @@ impl Lexer {
     fn word(&mut self) -> Result<Tok, SyntaxError> {
         let start = self.pos;
         let mut text = String::new();
-        while let Some(c) = self
-            .peek(0)
-            .filter(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-'))
-        {
+        while let Some(c) = self.peek(0).filter(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-')) {
             self.bump();
             text.push(c);
         }
@@ -325,11 +299,7 @@ mod tests {
     use super::*;
 
     fn toks(source: &str) -> Vec<Tok> {
-        tokenize(source)
-            .expect("source should lex")
-            .into_iter()
-            .map(|t| t.tok)
-            .collect()
+        tokenize(source).expect("source should lex").into_iter().map(|t| t.tok).collect()
     }
 
     #[test]
@@ -370,10 +340,7 @@ mod tests {
 
     #[test]
     fn string_escapes() {
-        assert_eq!(
-            toks(r#""a\"b\\c""#),
-            vec![Tok::Str(r#"a"b\c"#.to_owned()), Tok::Eof]
-        );
+        assert_eq!(toks(r#""a\"b\\c""#), vec![Tok::Str(r#"a"b\c"#.to_owned()), Tok::Eof]);
         let err = tokenize(r#"  "a\n""#).expect_err("bad escape");
         assert_eq!(err.pos, Pos { line: 1, column: 5 });
     }

@@ -91,9 +91,18 @@ impl Node {
     }
 }
 
-/// Parses a whole file's tokens (ending with [`Tok::Eof`]) into its top-level nodes.
+/// Parses a whole file's tokens (as [`super::lexer::tokenize`] returns them, ending with
+/// [`Tok::Eof`]) into its top-level nodes.
+///
+/// # Errors
+///
+/// The first syntax error: a stray token, an unclosed block or vector (reported at its
+/// opening bracket), or blocks nested deeper than [`MAX_NESTING`].
 pub fn parse(tokens: &[Token]) -> Result<Vec<Node>, SyntaxError> {
-    let mut parser = Parser { tokens, index: 0 };
+    // Tokens from elsewhere may lack the final `Eof`; the parser must still stop there.
+    let end = tokens.last().map_or(Pos { line: 1, column: 1 }, |t| t.end);
+    let eof = Token { tok: Tok::Eof, pos: end, end };
+    let mut parser = Parser { tokens, index: 0, eof };
     parser.nodes(None, 0)
 }
 
@@ -101,13 +110,14 @@ pub fn parse(tokens: &[Token]) -> Result<Vec<Node>, SyntaxError> {
 struct Parser<'t> {
     tokens: &'t [Token],
     index: usize,
+    /// Returned once the tokens run out.
+    eof: Token,
 }
 
 impl Parser<'_> {
-    /// The current token; the trailing `Eof` is returned forever once reached.
+    /// The current token, or `Eof` forever once the end is reached.
     fn peek(&self) -> &Token {
-        let last = self.tokens.len().saturating_sub(1);
-        &self.tokens[self.index.min(last)]
+        self.tokens.get(self.index).unwrap_or(&self.eof)
     }
 
     fn bump(&mut self) -> Token {
@@ -130,10 +140,7 @@ impl Parser<'_> {
                     if open.is_some() {
                         return Ok(nodes);
                     }
-                    return Err(SyntaxError::new(
-                        token.pos,
-                        "unexpected '}': there is no open block to close",
-                    ));
+                    return Err(SyntaxError::new(token.pos, "unexpected '}': there is no open block to close"));
                 }
                 Tok::Eof => {
                     if let Some(open) = open {
@@ -157,10 +164,7 @@ impl Parser<'_> {
                     ));
                 }
                 Tok::RBracket => {
-                    return Err(SyntaxError::new(
-                        token.pos,
-                        "unexpected ']' without a matching '['",
-                    ));
+                    return Err(SyntaxError::new(token.pos, "unexpected ']' without a matching '['"));
                 }
                 other => {
                     return Err(SyntaxError::new(
@@ -193,20 +197,14 @@ impl Parser<'_> {
                 Tok::LBracket => {
                     let (items, vector_end) = self.vector()?;
                     end = vector_end;
-                    args.push(Value {
-                        kind: ValueKind::Vector(items),
-                        pos: token.pos,
-                    });
+                    args.push(Value { kind: ValueKind::Vector(items), pos: token.pos });
                     continue;
                 }
                 _ => break,
             };
             self.bump();
             end = token.end;
-            args.push(Value {
-                kind,
-                pos: token.pos,
-            });
+            args.push(Value { kind, pos: token.pos });
         }
         let mut block = None;
         if self.peek().tok == Tok::LBrace {
@@ -221,15 +219,7 @@ impl Parser<'_> {
             end = self.bump().end; // the closing brace, checked by `nodes`
             block = Some(Block { open, nodes });
         }
-        Ok(Node {
-            name,
-            args,
-            block,
-            span: Span {
-                start: name_token.pos,
-                end,
-            },
-        })
+        Ok(Node { name, args, block, span: Span { start: name_token.pos, end } })
     }
 
     /// `[ number (,? number)* ,? ]`, called with `[` as the current token.
@@ -292,7 +282,7 @@ mod tests {
             ]
         );
         assert_eq!(nodes[1].children()[0].name, "c");
-        assert_eq!(nodes[1].span.end, Pos { line: 1, column: 33 });
+        assert_eq!(nodes[1].span.end, Pos { line: 1, column: 30 });
         assert!(nodes[2].block.is_none());
     }
 
@@ -308,6 +298,15 @@ mod tests {
             let err = parse_str(source).expect_err(source);
             assert_eq!(err.pos.column, column, "{source}: {}", err.message);
         }
+    }
+
+    #[test]
+    fn tokens_without_eof_still_end() {
+        let mut tokens = tokenize("a { b 1").expect("lexes");
+        tokens.pop();
+        let err = parse(&tokens).expect_err("unclosed");
+        assert_eq!(err.pos, Pos { line: 1, column: 3 });
+        assert_eq!(parse(&[]), Ok(Vec::new()));
     }
 
     #[test]

@@ -1,0 +1,112 @@
+//! `material "name" { … }` and `texture "name" checker|image { … }`.
+
+use glam::{Vec2, Vec3};
+use glint_core::desc::{MaterialDesc, TextureDesc};
+
+use super::args::{self, Result, Seen};
+use super::builder::{Registry, Source};
+use super::tree::Node;
+use crate::error::SceneErrorKind;
+use crate::texture_io;
+
+/// The texture types, in the order the documentation lists them.
+pub const TEXTURE_KINDS: [&str; 2] = ["checker", "image"];
+
+const MATERIAL_PROPERTIES: [&str; 14] = [
+    "diffuse",
+    "specular",
+    "shininess",
+    "reflective",
+    "transmissive",
+    "ior",
+    "ambient",
+    "ka",
+    "kd",
+    "ks",
+    "kt",
+    "texture",
+    "blend",
+    "repeat",
+];
+
+/// Builds a material; unset properties keep [`MaterialDesc::default`].
+pub fn material(src: &Source, node: &Node, name: &str, textures: &Registry) -> Result<MaterialDesc> {
+    let mut m = MaterialDesc { name: name.to_owned(), ..MaterialDesc::default() };
+    let mut seen = Seen::default();
+    for prop in node.children() {
+        seen.once(src, prop, "material")?;
+        let coefficient = |prop| args::number_where(src, prop, "0 or more", |x| x >= 0.0);
+        match prop.name.as_str() {
+            "diffuse" => m.diffuse = args::color(src, prop)?,
+            "specular" => m.specular = args::color(src, prop)?,
+            "reflective" => m.reflective = Some(args::color(src, prop)?),
+            "transmissive" => m.transmissive = args::color(src, prop)?,
+            "ambient" => m.ambient = Some(args::color(src, prop)?),
+            "shininess" => m.shininess = coefficient(prop)?,
+            "ior" => m.ior = args::number_where(src, prop, "greater than 0", |x| x > 0.0)?,
+            "ka" => m.ka = coefficient(prop)?,
+            "kd" => m.kd = coefficient(prop)?,
+            "ks" => m.ks = coefficient(prop)?,
+            "kt" => m.kt = coefficient(prop)?,
+            "blend" => {
+                m.blend = args::number_where(src, prop, "from 0 to 1", |x| (0.0..=1.0).contains(&x))?;
+            }
+            "repeat" => m.texture_repeat = args::vec2_positive(src, prop)?,
+            "texture" => {
+                args::no_block(src, prop)?;
+                let (texture, pos) = args::string(src, prop, "a texture name")?;
+                m.texture = Some(textures.lookup(src, pos, "texture", &texture)?);
+            }
+            _ => {
+                return Err(args::unknown(src, prop, "property", "in 'material'", &MATERIAL_PROPERTIES));
+            }
+        }
+    }
+    Ok(m)
+}
+
+/// Builds a texture from its kind node (`checker { … }` or `image { … }`).
+pub fn texture(src: &Source, name: &str, kind: &Node) -> Result<TextureDesc> {
+    let mut seen = Seen::default();
+    if kind.name == "checker" {
+        let mut even = Vec3::splat(0.9);
+        let mut odd = Vec3::splat(0.1);
+        let mut cells = Vec2::splat(8.0);
+        for prop in kind.children() {
+            seen.once(src, prop, "checker")?;
+            match prop.name.as_str() {
+                "even" => even = args::color(src, prop)?,
+                "odd" => odd = args::color(src, prop)?,
+                "cells" => cells = args::vec2_positive(src, prop)?,
+                _ => {
+                    return Err(args::unknown(
+                        src,
+                        prop,
+                        "property",
+                        "in 'texture checker'",
+                        &["even", "odd", "cells"],
+                    ));
+                }
+            }
+        }
+        return Ok(TextureDesc::Checker { name: name.to_owned(), even, odd, cells });
+    }
+    let mut file = None;
+    for prop in kind.children() {
+        seen.once(src, prop, "image")?;
+        match prop.name.as_str() {
+            "file" => {
+                args::no_block(src, prop)?;
+                file = Some((args::string(src, prop, "a file name")?.0, prop));
+            }
+            _ => {
+                return Err(args::unknown(src, prop, "property", "in 'texture image'", &["file"]));
+            }
+        }
+    }
+    let Some((file, prop)) = file else {
+        return Err(src.invalid(kind.pos(), "an image texture needs its file, as in `image { file \"wood.png\" }`"));
+    };
+    let path = src.dir.join(&file);
+    texture_io::load_texture(name, &path).map_err(|e| src.error(SceneErrorKind::Io, prop.pos(), e.to_string()))
+}

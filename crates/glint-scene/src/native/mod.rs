@@ -1,0 +1,77 @@
+//! The native `.glint` scene format, written by hand (see `docs/scene-format.md`).
+//!
+//! Reading happens in three separate steps so each can report its own kind of mistake:
+//! [`lexer`] (characters → tokens with line and column), [`tree`] (tokens → a generic
+//! node tree, syntax only) and the builder (nodes → [`SceneDesc`], meaning only).
+
+mod args;
+mod builder;
+pub mod lexer;
+mod lights;
+mod materials;
+mod objects;
+mod settings;
+pub mod tree;
+
+use std::path::Path;
+
+use glint_core::desc::SceneDesc;
+
+use crate::error::{SceneError, SceneErrorKind};
+use builder::{Builder, Source, parent_dir};
+
+pub use builder::MAX_NODES;
+pub use settings::{MAX_DEPTH, MAX_IMAGE_SIDE, MAX_SAMPLES_PER_AXIS};
+
+/// The text of `scenes/default.glint`, compiled in so that glint can render something
+/// with no files at all.
+pub const DEFAULT_SCENE_SOURCE: &str = include_str!("../../../../scenes/default.glint");
+
+/// The file name the default scene's errors and node origins carry.
+pub const DEFAULT_SCENE_NAME: &str = "<default scene>";
+
+/// Reads a `.glint` file; includes and texture files are found relative to it.
+///
+/// # Errors
+///
+/// A [`SceneError`] naming the file, line and column of the first problem: a syntax or
+/// meaning error, or an included or texture file that cannot be read. A missing scene
+/// file itself is reported with line 0.
+pub fn load_scene(path: &Path) -> Result<SceneDesc, SceneError> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| SceneError::new(SceneErrorKind::Io, name.clone(), 0, 0, format!("cannot read scene file: {e}")))?;
+    let src = Source { name, dir: parent_dir(path) };
+    let mut builder = Builder::default();
+    builder.file(&src, &text, std::fs::canonicalize(path).ok())?;
+    Ok(builder.finish())
+}
+
+/// Parses scene text that did not necessarily come from a file: `file_name` is used in
+/// errors and node origins, `base_dir` is where relative includes and textures are found.
+///
+/// # Errors
+///
+/// As [`load_scene`], with errors in the text itself reported under `file_name`.
+pub fn parse_scene(source: &str, file_name: &str, base_dir: &Path) -> Result<SceneDesc, SceneError> {
+    let src = Source { name: file_name.to_owned(), dir: base_dir.to_path_buf() };
+    // If the text is a file on disk, knowing it lets an include of it back be a cycle.
+    let canonical = std::fs::canonicalize(base_dir.join(file_name)).ok();
+    let mut builder = Builder::default();
+    builder.file(&src, source, canonical)?;
+    Ok(builder.finish())
+}
+
+/// The classic Whitted composition (mirror and glass spheres over a checkered floor),
+/// built from [`DEFAULT_SCENE_SOURCE`]; it needs no files.
+///
+/// # Panics
+///
+/// Never in a released build: the compiled-in text is checked by the test suite, and a
+/// failure here would be a bug in glint, not in anything the user did.
+pub fn default_scene() -> SceneDesc {
+    match parse_scene(DEFAULT_SCENE_SOURCE, DEFAULT_SCENE_NAME, Path::new("")) {
+        Ok(scene) => scene,
+        Err(e) => panic!("the built-in default scene is invalid: {e}"),
+    }
+}

@@ -1,0 +1,108 @@
+//! `settings { … }` and `camera { … }`: how the image is made and from where.
+
+use glint_core::desc::{CameraDesc, RenderSettings};
+
+use super::args::{self, Result, Seen};
+use super::builder::Source;
+use super::tree::Node;
+
+/// Largest image side accepted; larger images are almost certainly a typo and would
+/// allocate gigabytes.
+pub const MAX_IMAGE_SIDE: u32 = 16384;
+
+/// Most samples per pixel axis (64² = 4096 rays per pixel).
+pub const MAX_SAMPLES_PER_AXIS: u32 = 64;
+
+/// Deepest recursion accepted for `max_depth`.
+pub const MAX_DEPTH: u32 = 64;
+
+const SETTINGS_PROPERTIES: [&str; 7] =
+    ["width", "height", "samples", "max_depth", "min_contribution", "background", "ambient"];
+
+const CAMERA_PROPERTIES: [&str; 5] = ["eye", "look_at", "look", "up", "fov"];
+
+/// Applies a `settings` block on top of `settings` (which starts at the defaults).
+pub fn settings(src: &Source, node: &Node, settings: &mut RenderSettings) -> Result<()> {
+    args::no_values(src, node)?;
+    let mut seen = Seen::default();
+    for prop in node.children() {
+        seen.once(src, prop, "settings")?;
+        match prop.name.as_str() {
+            "width" => settings.width = args::whole(src, prop, 1, MAX_IMAGE_SIDE)?,
+            "height" => settings.height = args::whole(src, prop, 1, MAX_IMAGE_SIDE)?,
+            "samples" => {
+                settings.samples_per_axis = args::whole(src, prop, 1, MAX_SAMPLES_PER_AXIS)?;
+            }
+            "max_depth" => settings.max_depth = args::whole(src, prop, 0, MAX_DEPTH)?,
+            "min_contribution" => {
+                settings.min_contribution = args::number_where(src, prop, "from 0 to 1", |x| (0.0..=1.0).contains(&x))?;
+            }
+            "background" => settings.background = args::color(src, prop)?,
+            "ambient" => settings.ambient_light = args::color(src, prop)?,
+            _ => {
+                return Err(args::unknown(src, prop, "property", "in 'settings'", &SETTINGS_PROPERTIES));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Builds a `camera` block; unset properties keep [`CameraDesc::default`].
+pub fn camera(src: &Source, node: &Node) -> Result<CameraDesc> {
+    args::no_values(src, node)?;
+    let mut camera = CameraDesc::default();
+    let mut look_at = None;
+    let mut seen = Seen::default();
+    for prop in node.children() {
+        seen.once(src, prop, "camera")?;
+        match prop.name.as_str() {
+            "eye" => camera.eye = args::vec3(src, prop)?,
+            "look_at" => look_at = Some((args::vec3(src, prop)?, prop)),
+            "look" => camera.look = args::direction(src, prop)?,
+            "up" => camera.up = args::direction(src, prop)?,
+            "fov" => {
+                camera.fov_y_degrees =
+                    args::number_where(src, prop, "between 0 and 180 degrees (both excluded)", |x| {
+                        x > 0.0 && x < 180.0
+                    })?;
+            }
+            _ => {
+                return Err(args::unknown(src, prop, "property", "in 'camera'", &CAMERA_PROPERTIES));
+            }
+        }
+    }
+    if let Some((target, prop)) = look_at {
+        if let Some(look) = seen.get("look") {
+            return Err(src.invalid(
+                prop.pos(),
+                format!(
+                    "give either 'look_at' (a point) or 'look' (a direction), not both; 'look' is at line {}, column {}",
+                    look.line, look.column
+                ),
+            ));
+        }
+        let look = target - camera.eye;
+        if !(look.length_squared() > 0.0 && look.length_squared().is_finite()) {
+            return Err(src.invalid(
+                args::value_pos(prop),
+                format!(
+                    "'look_at' {target} must be a point away from 'eye' {}; the camera would look nowhere",
+                    camera.eye
+                ),
+            ));
+        }
+        camera.look = look;
+    }
+    let sine = camera.look.normalize().cross(camera.up.normalize()).length();
+    if sine.is_nan() || sine < 1e-4 {
+        let at = seen.get("up").or_else(|| seen.get("look")).or_else(|| seen.get("look_at")).unwrap_or(node.pos());
+        return Err(src.invalid(
+            at,
+            format!(
+                "'up' {} is parallel to the viewing direction {}; choose an up vector that is not along the direction the camera looks",
+                camera.up, camera.look
+            ),
+        ));
+    }
+    Ok(camera)
+}

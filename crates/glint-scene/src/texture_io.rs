@@ -1,0 +1,150 @@
+//! Image files → [`TextureDesc::Image`] in linear RGB.
+//!
+//! Shading adds and scales radiance, which is only meaningful in linear light, while
+//! PNG and JPEG files store sRGB-encoded values; so texels are decoded through the sRGB
+//! transfer function (IEC 61966-2-1) once, here, and never again while rendering.
+
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+use glint_core::desc::TextureDesc;
+use image::{DynamicImage, ImageFormat, ImageReader, Limits};
+
+/// Largest texture side accepted, in pixels; bigger files are almost surely a mistake
+/// and would need gigabytes once decoded to floats.
+pub const MAX_TEXTURE_SIDE: u32 = 16384;
+
+/// Why a texture file could not be used; each variant names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum TextureError {
+    /// The file could not be opened or read.
+    #[error("cannot read texture file '{}': {source}", path.display())]
+    Io {
+        /// The file as it was looked for.
+        path: PathBuf,
+        /// The operating system's reason.
+        source: std::io::Error,
+    },
+    /// The file is not a PNG or JPEG image.
+    #[error(
+        "texture file '{}' is {found}; textures must be PNG or JPEG images",
+        path.display()
+    )]
+    UnsupportedFormat {
+        /// The file.
+        path: PathBuf,
+        /// What it was recognised as ("an OpenEXR image", "not a recognised image").
+        found: String,
+    },
+    /// The image is larger than [`MAX_TEXTURE_SIDE`] on a side.
+    #[error(
+        "texture file '{}' is {width}x{height} pixels; at most {MAX_TEXTURE_SIDE} pixels per side are allowed",
+        path.display()
+    )]
+    TooLarge {
+        /// The file.
+        path: PathBuf,
+        /// Its width in pixels.
+        width: u32,
+        /// Its height in pixels.
+        height: u32,
+    },
+    /// The decoder rejected the data (corrupt file, unsupported variant, memory limit).
+    #[error("cannot decode texture file '{}': {source}", path.display())]
+    Decode {
+        /// The file.
+        path: PathBuf,
+        /// The decoder's reason.
+        source: image::ImageError,
+    },
+}
+
+/// The sRGB electro-optical transfer function: an encoded value in [0, 1] → linear light.
+pub fn srgb_to_linear(encoded: f32) -> f32 {
+    if encoded <= 0.04045 { encoded / 12.92 } else { ((encoded + 0.055) / 1.055).powf(2.4) }
+}
+
+/// Loads a PNG or JPEG file as a linear-RGB texture named `name`, row 0 at the top.
+///
+/// Alpha is ignored; 16-bit PNGs keep their precision.
+///
+/// # Errors
+///
+/// A [`TextureError`] naming `path` when the file cannot be read, is not PNG or JPEG, is
+/// larger than [`MAX_TEXTURE_SIDE`] on a side, or does not decode.
+pub fn load_texture(name: &str, path: &Path) -> Result<TextureDesc, TextureError> {
+    let open = || {
+        ImageReader::open(path)
+            .and_then(ImageReader::with_guessed_format)
+            .map_err(|source| TextureError::Io { path: path.to_path_buf(), source })
+    };
+    let reader = open()?;
+    match reader.format() {
+        Some(ImageFormat::Png | ImageFormat::Jpeg) => {}
+        other => {
+            return Err(TextureError::UnsupportedFormat {
+                path: path.to_path_buf(),
+                found: other.map_or_else(|| "not a recognised image".to_owned(), |f| format!("a {f:?} image")),
+            });
+        }
+    }
+    // Read the header first so an absurd size is reported as such, before any decoding.
+    let decode_error = |source| TextureError::Decode { path: path.to_path_buf(), source };
+    let (width, height) = reader.into_dimensions().map_err(decode_error)?;
+    if width > MAX_TEXTURE_SIDE || height > MAX_TEXTURE_SIDE {
+        return Err(TextureError::TooLarge { path: path.to_path_buf(), width, height });
+    }
+    let mut reader = open()?;
+    let mut limits = Limits::default();
+    limits.max_image_width = Some(MAX_TEXTURE_SIDE);
+    limits.max_image_height = Some(MAX_TEXTURE_SIDE);
+    reader.limits(limits);
+    let image = reader.decode().map_err(decode_error)?;
+    Ok(TextureDesc::Image {
+        name: name.to_owned(),
+        width: image.width(),
+        height: image.height(),
+        texels: linear_texels(&image),
+    })
+}
+
+/// Decodes every pixel to linear RGB, rows top to bottom as the file stores them.
+fn linear_texels(image: &DynamicImage) -> Vec<Vec3> {
+    let sixteen_bit = matches!(
+        image,
+        DynamicImage::ImageLuma16(_)
+            | DynamicImage::ImageLumaA16(_)
+            | DynamicImage::ImageRgb16(_)
+            | DynamicImage::ImageRgba16(_)
+    );
+    if sixteen_bit {
+        let scale = 1.0 / f32::from(u16::MAX);
+        let decode = |c: u16| srgb_to_linear(f32::from(c) * scale);
+        image.to_rgb16().pixels().map(|p| Vec3::new(decode(p[0]), decode(p[1]), decode(p[2]))).collect()
+    } else {
+        // 256 possible values: decode each once.
+        let table: Vec<f32> = (0..=255u8).map(|c| srgb_to_linear(f32::from(c) / 255.0)).collect();
+        image
+            .to_rgb8()
+            .pixels()
+            .map(|p| Vec3::new(table[usize::from(p[0])], table[usize::from(p[1])], table[usize::from(p[2])]))
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn srgb_transfer_function_endpoints_and_midpoint() {
+        assert_eq!(srgb_to_linear(0.0), 0.0);
+        assert!((srgb_to_linear(1.0) - 1.0).abs() < 1e-6);
+        // 0.5 encoded is about 21.4 % linear light.
+        assert!((srgb_to_linear(0.5) - 0.214_041).abs() < 1e-5);
+        // The linear toe and the power segment meet continuously.
+        let below = srgb_to_linear(0.04045);
+        let above = srgb_to_linear(0.040_451);
+        assert!((below - above).abs() < 1e-6);
+    }
+}

@@ -1,0 +1,407 @@
+//! The native `.glint` format: every node and property reaches the `SceneDesc` with the
+//! value written, or with its documented default when it is left out.
+
+use std::path::Path;
+
+use glam::{Vec2, Vec3};
+use glint_core::desc::{
+    CameraDesc, LightDesc, MaterialDesc, NodeDesc, NodeKind, RenderSettings, SceneDesc, ShapeDesc, TextureDesc,
+    TransformOp,
+};
+use glint_scene::{DEFAULT_SCENE_SOURCE, default_scene, parse_scene};
+
+fn parse(source: &str) -> SceneDesc {
+    parse_scene(source, "test.glint", Path::new("")).unwrap_or_else(|e| panic!("scene should parse, got: {e}"))
+}
+
+/// The shape and material of a node that must be a shape.
+fn shape_of(node: &NodeDesc) -> (ShapeDesc, usize) {
+    match &node.kind {
+        NodeKind::Shape { shape, material } => (*shape, *material),
+        NodeKind::Group(_) => panic!("expected a shape, found a group at {}", node.origin),
+    }
+}
+
+/// The children of a node that must be a group.
+fn children_of(node: &NodeDesc) -> &[NodeDesc] {
+    match &node.kind {
+        NodeKind::Group(children) => children,
+        NodeKind::Shape { .. } => panic!("expected a group, found a shape at {}", node.origin),
+    }
+}
+
+/// The same tree without origins, to compare nodes written in different places.
+fn without_origins(nodes: &[NodeDesc]) -> Vec<NodeDesc> {
+    nodes
+        .iter()
+        .map(|n| NodeDesc {
+            transform: n.transform.clone(),
+            kind: match &n.kind {
+                NodeKind::Group(children) => NodeKind::Group(without_origins(children)),
+                shape => shape.clone(),
+            },
+            origin: String::new(),
+        })
+        .collect()
+}
+
+#[test]
+fn an_empty_file_is_the_default_scene_description() {
+    let scene = parse("# nothing but a comment\n\n");
+    assert_eq!(scene, SceneDesc::default());
+    assert_eq!(scene.settings.width, 800);
+    assert_eq!(scene.camera.fov_y_degrees, 45.0);
+}
+
+#[test]
+fn settings_properties() {
+    let scene = parse(
+        "settings { width 320 height 2.4e2 samples 3 max_depth 7 min_contribution 0.01 \
+         background [0.1, 0.2, 0.3] ambient 0.25 }",
+    );
+    assert_eq!(
+        scene.settings,
+        RenderSettings {
+            width: 320,
+            height: 240,
+            samples_per_axis: 3,
+            max_depth: 7,
+            min_contribution: 0.01,
+            background: Vec3::new(0.1, 0.2, 0.3),
+            ambient_light: Vec3::splat(0.25),
+        }
+    );
+}
+
+#[test]
+fn settings_left_out_keep_their_defaults() {
+    let scene = parse("settings { width 64 }");
+    assert_eq!(scene.settings, RenderSettings { width: 64, ..RenderSettings::default() });
+}
+
+#[test]
+fn camera_look_at_becomes_a_direction() {
+    let scene = parse("camera { eye [0 2 8] look_at [0 1 0] up [0 1 0] fov 30 }");
+    assert_eq!(
+        scene.camera,
+        CameraDesc {
+            eye: Vec3::new(0.0, 2.0, 8.0),
+            look: Vec3::new(0.0, -1.0, -8.0),
+            up: Vec3::Y,
+            fov_y_degrees: 30.0,
+        }
+    );
+}
+
+#[test]
+fn camera_look_direction_and_defaults() {
+    let scene = parse("camera { look [1 0 0] }");
+    assert_eq!(scene.camera, CameraDesc { look: Vec3::X, ..CameraDesc::default() });
+    assert_eq!(scene.camera.eye, Vec3::new(0.0, 0.0, 5.0));
+}
+
+#[test]
+fn checker_texture_with_values_and_defaults() {
+    let scene = parse(
+        "texture \"checks\" checker { even [0.9 0.9 0.9] odd [0.1 0.2 0.3] cells [8 4] }\n\
+         texture \"plain\" checker",
+    );
+    assert_eq!(
+        scene.textures,
+        vec![
+            TextureDesc::Checker {
+                name: "checks".into(),
+                even: Vec3::splat(0.9),
+                odd: Vec3::new(0.1, 0.2, 0.3),
+                cells: Vec2::new(8.0, 4.0),
+            },
+            TextureDesc::Checker {
+                name: "plain".into(),
+                even: Vec3::splat(0.9),
+                odd: Vec3::splat(0.1),
+                cells: Vec2::splat(8.0),
+            },
+        ]
+    );
+}
+
+#[test]
+fn material_with_every_property() {
+    let scene = parse(
+        "texture \"a\" checker {}\n\
+         texture \"checks\" checker { cells 2 }\n\
+         material \"floor\" { diffuse [1 0.5 0.25] specular 0.5 shininess 200 reflective [0.1 0.1 0.1] \
+         transmissive [0.9 0.8 0.7] ior 1.5 ambient [0.2 0.2 0.2] ka 0.5 kd 0.6 ks 0.7 kt 0.8 \
+         texture \"checks\" blend 0.75 repeat [4 2] }",
+    );
+    assert_eq!(
+        scene.materials,
+        vec![MaterialDesc {
+            name: "floor".into(),
+            ka: 0.5,
+            kd: 0.6,
+            ks: 0.7,
+            kt: 0.8,
+            ambient: Some(Vec3::splat(0.2)),
+            diffuse: Vec3::new(1.0, 0.5, 0.25),
+            specular: Vec3::splat(0.5),
+            reflective: Some(Vec3::splat(0.1)),
+            transmissive: Vec3::new(0.9, 0.8, 0.7),
+            shininess: 200.0,
+            ior: 1.5,
+            texture: Some(1),
+            blend: 0.75,
+            texture_repeat: Vec2::new(4.0, 2.0),
+        }]
+    );
+}
+
+#[test]
+fn material_left_empty_has_the_documented_defaults() {
+    let scene = parse("material \"plain\" {}  material \"bare\"  material \"rep\" { repeat 3 }");
+    let expected = |name: &str| MaterialDesc { name: name.into(), ..MaterialDesc::default() };
+    assert_eq!(scene.materials[0], expected("plain"));
+    assert_eq!(scene.materials[1], expected("bare"));
+    assert_eq!(scene.materials[2].texture_repeat, Vec2::splat(3.0));
+    assert_eq!(scene.materials[0].diffuse, Vec3::splat(0.8));
+    assert_eq!(scene.materials[0].reflective, None);
+}
+
+#[test]
+fn lights_of_every_kind() {
+    let scene = parse(
+        "light point { position [5 10 5] color [1 0.5 0.25] attenuation [1 0.1 0.01] }\n\
+         light directional { direction [-1 -1 -1] color 0.5 }\n\
+         light spot { position [0 4 0] direction [0 -1 0] color [1 1 1] attenuation [1 0 0] \
+         angle 25 penumbra 4 }",
+    );
+    assert_eq!(
+        scene.lights,
+        vec![
+            LightDesc::Point {
+                position: Vec3::new(5.0, 10.0, 5.0),
+                color: Vec3::new(1.0, 0.5, 0.25),
+                attenuation: Vec3::new(1.0, 0.1, 0.01),
+            },
+            LightDesc::Directional { direction: Vec3::splat(-1.0), color: Vec3::splat(0.5) },
+            LightDesc::Spot {
+                position: Vec3::new(0.0, 4.0, 0.0),
+                direction: Vec3::NEG_Y,
+                color: Vec3::ONE,
+                attenuation: Vec3::X,
+                angle_degrees: 25.0,
+                penumbra_degrees: 4.0,
+            },
+        ]
+    );
+}
+
+#[test]
+fn light_defaults() {
+    let scene = parse("light point {} light directional light spot {}");
+    assert_eq!(
+        scene.lights,
+        vec![
+            LightDesc::Point { position: Vec3::ZERO, color: Vec3::ONE, attenuation: Vec3::X },
+            LightDesc::Directional { direction: Vec3::NEG_Y, color: Vec3::ONE },
+            LightDesc::Spot {
+                position: Vec3::ZERO,
+                direction: Vec3::NEG_Y,
+                color: Vec3::ONE,
+                attenuation: Vec3::X,
+                angle_degrees: 30.0,
+                penumbra_degrees: 5.0,
+            },
+        ]
+    );
+}
+
+#[test]
+fn every_shape_maps_to_its_desc() {
+    let scene = parse(
+        "material \"m\" {}\n\
+         sphere { material \"m\" } cube {} cylinder {} cone {} plane {} disk {}\n\
+         torus { minor_radius 0.4 } torus",
+    );
+    let shapes: Vec<ShapeDesc> = scene.objects.iter().map(|n| shape_of(n).0).collect();
+    assert_eq!(
+        shapes,
+        vec![
+            ShapeDesc::Sphere,
+            ShapeDesc::Cube,
+            ShapeDesc::Cylinder,
+            ShapeDesc::Cone,
+            ShapeDesc::Plane,
+            ShapeDesc::Disk,
+            ShapeDesc::Torus { minor_radius: 0.4 },
+            ShapeDesc::Torus { minor_radius: 0.25 },
+        ]
+    );
+    assert!(scene.objects.iter().all(|n| n.transform.is_empty()));
+}
+
+#[test]
+fn objects_without_material_share_one_lazily_created_default() {
+    let scene = parse("material \"m\" { diffuse [1 0 0] }\nsphere { material \"m\" }\ncube {}\ndisk {}");
+    assert_eq!(scene.materials.len(), 2);
+    assert_eq!(scene.materials[1], MaterialDesc { name: "default".into(), ..MaterialDesc::default() });
+    let materials: Vec<usize> = scene.objects.iter().map(|n| shape_of(n).1).collect();
+    assert_eq!(materials, vec![0, 1, 1]);
+
+    // No object without a material: no default material at all.
+    assert_eq!(parse("material \"m\" {} sphere { material \"m\" }").materials.len(), 1);
+}
+
+#[test]
+fn a_material_named_default_replaces_the_built_in_one() {
+    let scene = parse("material \"default\" { diffuse [0 0 1] }\ncube {}");
+    assert_eq!(scene.materials.len(), 1);
+    assert_eq!(scene.materials[0].diffuse, Vec3::Z);
+    assert_eq!(shape_of(&scene.objects[0]).1, 0);
+}
+
+#[test]
+fn transforms_keep_their_written_order() {
+    let scene = parse(
+        "sphere { scale [1 2 3] rotate [0 1 0] 30 translate [0 1 0] scale 2 \
+         matrix [1 0 0 4  0 1 0 5  0 0 1 6  0 0 0 1] rotate [1, 0, 0] -90 }",
+    );
+    assert_eq!(
+        scene.objects[0].transform,
+        vec![
+            TransformOp::Scale(Vec3::new(1.0, 2.0, 3.0)),
+            TransformOp::Rotate { axis: Vec3::Y, degrees: 30.0 },
+            TransformOp::Translate(Vec3::Y),
+            TransformOp::Scale(Vec3::splat(2.0)),
+            TransformOp::Matrix([
+                [1.0, 0.0, 0.0, 4.0],
+                [0.0, 1.0, 0.0, 5.0],
+                [0.0, 0.0, 1.0, 6.0],
+                [0.0, 0.0, 0.0, 1.0],
+            ]),
+            TransformOp::Rotate { axis: Vec3::X, degrees: -90.0 },
+        ]
+    );
+}
+
+#[test]
+fn groups_nest_and_carry_their_own_transforms() {
+    let scene = parse(
+        "material \"red\" {}\n\
+         group { rotate [0 1 0] 30  scale [1 2 1]  cube { material \"red\" }  sphere { }\n\
+           group { translate [1 0 0] disk {} } }",
+    );
+    assert_eq!(scene.objects.len(), 1);
+    let group = &scene.objects[0];
+    assert_eq!(
+        group.transform,
+        vec![TransformOp::Rotate { axis: Vec3::Y, degrees: 30.0 }, TransformOp::Scale(Vec3::new(1.0, 2.0, 1.0)),]
+    );
+    let children = children_of(group);
+    assert_eq!(children.len(), 3);
+    assert_eq!(shape_of(&children[0]), (ShapeDesc::Cube, 0));
+    assert_eq!(shape_of(&children[1]), (ShapeDesc::Sphere, 1));
+    assert_eq!(children[2].transform, vec![TransformOp::Translate(Vec3::X)]);
+    assert_eq!(shape_of(&children_of(&children[2])[0]).0, ShapeDesc::Disk);
+}
+
+#[test]
+fn use_of_a_define_equals_writing_the_objects_out() {
+    let defined = parse(
+        "material \"bark\" {}\n\
+         define \"tree\" { cylinder { material \"bark\" scale [0.1 1 0.1] } cone { translate [0 2 0] } }\n\
+         use \"tree\" { translate [3 0 0] }\n\
+         use \"tree\" { rotate [0 1 0] 90 translate [-3 0 0] }\n\
+         use \"tree\"",
+    );
+    let written = parse(
+        "material \"bark\" {}\n\
+         group { translate [3 0 0] cylinder { material \"bark\" scale [0.1 1 0.1] } cone { translate [0 2 0] } }\n\
+         group { rotate [0 1 0] 90 translate [-3 0 0] \
+           cylinder { material \"bark\" scale [0.1 1 0.1] } cone { translate [0 2 0] } }\n\
+         group { cylinder { material \"bark\" scale [0.1 1 0.1] } cone { translate [0 2 0] } }",
+    );
+    assert_eq!(defined.objects.len(), 3);
+    assert_eq!(defined.materials, written.materials);
+    assert_eq!(without_origins(&defined.objects), without_origins(&written.objects));
+    // The copies point back at the definition, the use node at itself.
+    assert_eq!(defined.objects[1].origin, "test.glint:4:1");
+    assert_eq!(children_of(&defined.objects[1])[0].origin, "test.glint:2:17");
+}
+
+#[test]
+fn a_define_alone_places_nothing() {
+    let scene = parse("define \"tree\" { cube {} }");
+    assert!(scene.objects.is_empty());
+}
+
+#[test]
+fn defines_can_use_earlier_defines() {
+    let scene = parse("define \"a\" { sphere {} }\ndefine \"b\" { use \"a\" { scale 2 } cube {} }\nuse \"b\"");
+    let b = children_of(&scene.objects[0]);
+    assert_eq!(b.len(), 2);
+    assert_eq!(b[0].transform, vec![TransformOp::Scale(Vec3::splat(2.0))]);
+    assert_eq!(shape_of(&children_of(&b[0])[0]).0, ShapeDesc::Sphere);
+}
+
+#[test]
+fn origins_name_file_line_and_column() {
+    let scene = parse("\n  sphere {}\n\tgroup { cube {} }");
+    assert_eq!(scene.objects[0].origin, "test.glint:2:3");
+    assert_eq!(scene.objects[1].origin, "test.glint:3:2");
+    assert_eq!(children_of(&scene.objects[1])[0].origin, "test.glint:3:10");
+}
+
+#[test]
+fn comments_commas_and_layout_do_not_matter() {
+    let compact = parse("sphere{translate[1,2,3]scale 2}");
+    let spread = parse("# a sphere\nsphere # here\n{\n  translate [ 1 2 3 ] # moved\n  scale\n 2\n}\n");
+    assert_eq!(without_origins(&compact.objects), without_origins(&spread.objects));
+    assert_eq!(
+        compact.objects[0].transform,
+        vec![TransformOp::Translate(Vec3::new(1.0, 2.0, 3.0)), TransformOp::Scale(Vec3::splat(2.0))]
+    );
+}
+
+#[test]
+fn strings_with_escapes_name_things() {
+    let scene = parse(r#"material "a \"quoted\" \\ name" {} sphere { material "a \"quoted\" \\ name" }"#);
+    assert_eq!(scene.materials[0].name, r#"a "quoted" \ name"#);
+    assert_eq!(shape_of(&scene.objects[0]).1, 0);
+}
+
+#[test]
+fn the_default_scene_is_a_whitted_composition() {
+    let scene = default_scene();
+    assert_eq!(scene, parse_scene(DEFAULT_SCENE_SOURCE, "<default scene>", Path::new("")).expect("parses"));
+    assert!(scene.objects.len() >= 6, "{} objects", scene.objects.len());
+    assert_eq!(scene.lights.len(), 2);
+    assert_eq!((scene.settings.width, scene.settings.height), (800, 600));
+    assert_eq!(scene.settings.max_depth, 5);
+    let bg = scene.settings.background;
+    assert!(bg.z > bg.x && bg.z > bg.y && bg.z < 0.5, "background {bg} is not dark blue");
+    assert!(scene.camera.look.y < 0.0, "the camera should look slightly down");
+
+    let shapes: Vec<ShapeDesc> = scene
+        .objects
+        .iter()
+        .filter_map(|n| match n.kind {
+            NodeKind::Shape { shape, .. } => Some(shape),
+            NodeKind::Group(_) => None,
+        })
+        .collect();
+    for wanted in [ShapeDesc::Plane, ShapeDesc::Cylinder, ShapeDesc::Cone, ShapeDesc::Cube] {
+        assert!(shapes.contains(&wanted), "no {wanted:?} in the default scene");
+    }
+    assert_eq!(shapes.iter().filter(|s| **s == ShapeDesc::Sphere).count(), 2);
+
+    let glass = scene.materials.iter().find(|m| m.name == "glass").expect("glass");
+    assert_eq!(glass.ior, 1.5);
+    assert!(glass.transmissive.min_element() > 0.5);
+    let mirror = scene.materials.iter().find(|m| m.name == "mirror").expect("mirror");
+    assert!(mirror.reflective.unwrap_or(mirror.specular).min_element() > 0.5);
+    let floor = scene.materials.iter().find(|m| m.name == "floor").expect("floor");
+    let texture = floor.texture.expect("the floor is textured");
+    assert!(matches!(scene.textures[texture], TextureDesc::Checker { .. }));
+    assert_ne!(floor.texture_repeat, Vec2::ONE, "the floor texture uses repeat");
+}
