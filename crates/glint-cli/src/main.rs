@@ -135,7 +135,7 @@ fn run_render(args: &RenderArgs) -> Result<(), Failure> {
     bar.finish_and_clear();
     let (image, stats) = result.map_err(|RenderError::Cancelled| Failure::Cancelled)?;
     let seconds = start.elapsed().as_secs_f64();
-    write_image(&image, &args.output, format)?;
+    write_image(&image, &args.output, format, desc.settings.output_transfer)?;
     if !args.quiet {
         let (w, h, n) = (scene.settings.width, scene.settings.height, scene.settings.samples_per_axis);
         eprintln!(

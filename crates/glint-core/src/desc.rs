@@ -35,6 +35,37 @@ pub struct RenderSettings {
     pub background: Vec3,
     /// `L_a` of the lecture's ambient term `L_a·k_a·O_a`.
     pub ambient_light: Vec3,
+    /// Which effects are traced; switching them off gives quick previews and matches
+    /// renderers (like the course's) that grade features one at a time.
+    pub features: Features,
+    /// How pixel values are encoded in 8/16-bit outputs.
+    pub output_transfer: Transfer,
+}
+
+/// Effects of the Whitted model that can be switched off.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Features {
+    pub shadows: bool,
+    pub reflections: bool,
+    pub refractions: bool,
+    pub textures: bool,
+}
+
+impl Default for Features {
+    fn default() -> Self {
+        Self { shadows: true, reflections: true, refractions: true, textures: true }
+    }
+}
+
+/// The transfer function from computed values to stored 8/16-bit pixel values.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Transfer {
+    /// Values are linear light; outputs are sRGB-encoded (the physically right choice).
+    #[default]
+    Srgb,
+    /// Values are already display values and are stored as they are, clamped: what
+    /// classic course ray tracers (and POV-Ray with `assumed_gamma 1`) do.
+    Identity,
 }
 
 impl Default for RenderSettings {
@@ -47,6 +78,8 @@ impl Default for RenderSettings {
             min_contribution: 1.0 / 512.0,
             background: Vec3::ZERO,
             ambient_light: Vec3::splat(0.1),
+            features: Features::default(),
+            output_transfer: Transfer::Srgb,
         }
     }
 }
@@ -138,8 +171,9 @@ impl Default for MaterialDesc {
 /// A colour pattern over a surface's uv coordinates.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum TextureDesc {
-    /// Decoded pixels in linear RGB, row 0 at the top (v = 1).
-    Image { name: String, width: u32, height: u32, texels: Vec<Vec3> },
+    /// Decoded pixels in linear RGB, row 0 at the top (v = 1); `path` is the file they
+    /// came from, kept so a scene can be written back out.
+    Image { name: String, path: String, width: u32, height: u32, texels: Vec<Vec3> },
     /// Alternating squares: `cells` squares along u and v of the unit uv square.
     Checker { name: String, even: Vec3, odd: Vec3, cells: Vec2 },
 }

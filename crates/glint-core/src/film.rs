@@ -2,6 +2,8 @@
 
 use glam::Vec3;
 
+pub use crate::desc::Transfer;
+
 /// A linear-RGB image, row 0 at the top.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Image {
@@ -19,14 +21,22 @@ impl Image {
         self.pixels[(y * self.width + x) as usize]
     }
 
-    /// 8-bit sRGB bytes, RGB interleaved: the encoding PNG viewers expect.
-    pub fn to_srgb8(&self) -> Vec<u8> {
-        self.pixels.iter().flat_map(|p| p.to_array()).map(|c| (linear_to_srgb(c) * 255.0 + 0.5) as u8).collect()
+    /// 8-bit values, RGB interleaved, encoded by `transfer`.
+    pub fn encode8(&self, transfer: Transfer) -> Vec<u8> {
+        self.encoded(transfer).map(|c| (c * 255.0 + 0.5) as u8).collect()
     }
 
-    /// 16-bit sRGB values, RGB interleaved.
-    pub fn to_srgb16(&self) -> Vec<u16> {
-        self.pixels.iter().flat_map(|p| p.to_array()).map(|c| (linear_to_srgb(c) * 65535.0 + 0.5) as u16).collect()
+    /// 16-bit values, RGB interleaved, encoded by `transfer`.
+    pub fn encode16(&self, transfer: Transfer) -> Vec<u16> {
+        self.encoded(transfer).map(|c| (c * 65535.0 + 0.5) as u16).collect()
+    }
+
+    fn encoded(&self, transfer: Transfer) -> impl Iterator<Item = f32> + '_ {
+        let encode = match transfer {
+            Transfer::Srgb => linear_to_srgb,
+            Transfer::Identity => clamp_unit,
+        };
+        self.pixels.iter().flat_map(|p| p.to_array()).map(encode)
     }
 
     /// Mean absolute difference per channel: the distance used by image comparisons.
@@ -37,9 +47,14 @@ impl Image {
     }
 }
 
+/// Clamps to [0, 1]; NaN maps to 0.
+pub fn clamp_unit(c: f32) -> f32 {
+    if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) }
+}
+
 /// The sRGB transfer function (IEC 61966-2-1), clamped to [0, 1]; NaN maps to 0.
 pub fn linear_to_srgb(c: f32) -> f32 {
-    let c = if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) };
+    let c = clamp_unit(c);
     if c <= 0.003_130_8 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 }
 }
 

@@ -5,7 +5,7 @@ use glam::{Mat4, Vec2, Vec3};
 
 use crate::accel::Bvh;
 use crate::camera::Camera;
-use crate::desc::{NodeDesc, NodeKind, SceneDesc, ShapeDesc, TransformOp};
+use crate::desc::{Features, NodeDesc, NodeKind, SceneDesc, ShapeDesc, TransformOp};
 use crate::light::Light;
 use crate::material::Material;
 use crate::math::{Aabb, Ray, Transform, offset_ray_origin};
@@ -32,6 +32,7 @@ pub struct Settings {
     pub min_contribution: f32,
     pub background: Vec3,
     pub ambient_light: Vec3,
+    pub features: Features,
 }
 
 /// Everything a backend needs, as flat arrays of plain records.
@@ -181,6 +182,7 @@ fn compile_settings(desc: &SceneDesc) -> Result<Settings, CompileError> {
         min_contribution: s.min_contribution.max(0.0),
         background: s.background,
         ambient_light: s.ambient_light,
+        features: s.features,
     })
 }
 

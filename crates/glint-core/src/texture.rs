@@ -102,7 +102,7 @@ mod tests {
     #[test]
     fn image_texel_centres_are_exact_and_top_row_is_v1() {
         let texels = vec![Vec3::X, Vec3::Y, Vec3::Z, Vec3::ONE]; // 2×2: red green / blue white
-        let desc = TextureDesc::Image { name: "i".into(), width: 2, height: 2, texels };
+        let desc = TextureDesc::Image { name: "i".into(), path: String::new(), width: 2, height: 2, texels };
         let mut all = vec![Vec3::splat(9.0)]; // an earlier texture's texels
         let t = Texture::compile(&desc, &mut all);
         assert!((t.sample(Vec2::new(0.25, 0.75), &all) - Vec3::X).length() < 1e-6);

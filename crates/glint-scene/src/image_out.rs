@@ -7,7 +7,7 @@ use std::fs;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-use glint_core::film::Image;
+use glint_core::film::{Image, Transfer};
 use image::{ImageBuffer, ImageFormat, Rgb};
 
 /// The encodings glint writes.
@@ -45,10 +45,11 @@ pub enum WriteError {
     Encode { path: PathBuf, source: image::ImageError },
 }
 
-/// Encodes `image` as `format` and atomically places it at `path`.
-pub fn write_image(image: &Image, path: &Path, format: OutputFormat) -> Result<(), WriteError> {
+/// Encodes `image` as `format` and atomically places it at `path`. `transfer` encodes
+/// the 8/16-bit formats; EXR always stores the computed values as they are.
+pub fn write_image(image: &Image, path: &Path, format: OutputFormat, transfer: Transfer) -> Result<(), WriteError> {
     let tmp = temp_sibling(path);
-    let result = encode(image, &tmp, format)
+    let result = encode(image, &tmp, format, transfer)
         .and_then(|()| fs::rename(&tmp, path).map_err(|source| WriteError::Io { path: path.to_owned(), source }));
     if result.is_err() {
         let _ = fs::remove_file(&tmp);
@@ -61,19 +62,19 @@ fn temp_sibling(path: &Path) -> PathBuf {
     path.with_file_name(format!(".{name}.{}.tmp", std::process::id()))
 }
 
-fn encode(image: &Image, tmp: &Path, format: OutputFormat) -> Result<(), WriteError> {
+fn encode(image: &Image, tmp: &Path, format: OutputFormat, transfer: Transfer) -> Result<(), WriteError> {
     let io_err = |source| WriteError::Io { path: tmp.to_owned(), source };
     let enc_err = |source| WriteError::Encode { path: tmp.to_owned(), source };
     let (w, h) = (image.width, image.height);
     match format {
         OutputFormat::Png8 => {
             let buf: ImageBuffer<Rgb<u8>, _> =
-                ImageBuffer::from_raw(w, h, image.to_srgb8()).expect("buffer size matches");
+                ImageBuffer::from_raw(w, h, image.encode8(transfer)).expect("buffer size matches");
             buf.save_with_format(tmp, ImageFormat::Png).map_err(enc_err)
         }
         OutputFormat::Png16 => {
             let buf: ImageBuffer<Rgb<u16>, _> =
-                ImageBuffer::from_raw(w, h, image.to_srgb16()).expect("buffer size matches");
+                ImageBuffer::from_raw(w, h, image.encode16(transfer)).expect("buffer size matches");
             buf.save_with_format(tmp, ImageFormat::Png).map_err(enc_err)
         }
         OutputFormat::Exr => {
@@ -85,7 +86,7 @@ fn encode(image: &Image, tmp: &Path, format: OutputFormat) -> Result<(), WriteEr
             let file = fs::File::create(tmp).map_err(io_err)?;
             let mut out = BufWriter::new(file);
             write!(out, "P6\n{w} {h}\n255\n").map_err(io_err)?;
-            out.write_all(&image.to_srgb8()).map_err(io_err)?;
+            out.write_all(&image.encode8(transfer)).map_err(io_err)?;
             out.into_inner().map_err(|e| io_err(e.into_error()))?.sync_all().map_err(io_err)
         }
     }
@@ -134,7 +135,7 @@ mod tests {
             ("d.ppm", OutputFormat::Ppm, 4e-3),
         ] {
             let path = dir.join(name);
-            write_image(&img, &path, format).unwrap();
+            write_image(&img, &path, format, Transfer::Srgb).unwrap();
             let back = read_image(&path).unwrap();
             assert!(img.mean_abs_diff(&back) < tolerance, "{name}: {}", img.mean_abs_diff(&back));
         }
@@ -150,7 +151,7 @@ mod tests {
     #[test]
     fn failed_write_leaves_nothing() {
         let path = std::env::temp_dir().join("glint-no-such-dir-xyz").join("out.png");
-        assert!(write_image(&sample_image(), &path, OutputFormat::Png8).is_err());
+        assert!(write_image(&sample_image(), &path, OutputFormat::Png8, Transfer::Srgb).is_err());
         assert!(!path.exists());
     }
 }

@@ -102,6 +102,7 @@ pub fn load_texture(name: &str, path: &Path) -> Result<TextureDesc, TextureError
     let image = reader.decode().map_err(decode_error)?;
     Ok(TextureDesc::Image {
         name: name.to_owned(),
+        path: path.display().to_string(),
         width: image.width(),
         height: image.height(),
         texels: linear_texels(&image),

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
 use glint_core::desc::SceneDesc;
-use glint_core::film::Image;
+use glint_core::film::{Image, Transfer};
 use glint_core::render::render;
 use glint_core::scene::compile;
 use glint_scene::image_out::{OutputFormat, read_image, write_image};
@@ -29,7 +29,7 @@ fn check_golden(name: &str, mut desc: SceneDesc, width: u32, height: u32) {
     let (image, _) = render(&scene, &|_, _| {}, &AtomicBool::new(false)).expect("renders");
     let path = golden_path(name);
     if std::env::var_os("GLINT_BLESS").is_some() {
-        write_image(&image, &path, OutputFormat::Png16).unwrap();
+        write_image(&image, &path, OutputFormat::Png16, Transfer::Srgb).unwrap();
         return;
     }
     let reference = read_image(&path).unwrap_or_else(|e| panic!("missing golden image {}: {e}", path.display()));
@@ -40,7 +40,7 @@ fn check_golden(name: &str, mut desc: SceneDesc, width: u32, height: u32) {
     let outliers = outlier_share(&image, &reference);
     if mean > MEAN_TOLERANCE || outliers > OUTLIER_SHARE {
         let actual = path.with_extension("actual.png");
-        let _ = write_image(&image, &actual, OutputFormat::Png16);
+        let _ = write_image(&image, &actual, OutputFormat::Png16, Transfer::Srgb);
         panic!("{name}: mean difference {mean:.5}, {:.3}% outliers; see {}", 100.0 * outliers, actual.display());
     }
 }

@@ -151,7 +151,7 @@ fn image_textures_are_decoded_to_linear_rgb_top_row_first() {
          material \"m\" { texture \"wood\" repeat [2 3] }",
     );
     let scene = load_scene(&main).expect("loads");
-    let TextureDesc::Image { name, width, height, texels } = &scene.textures[0] else {
+    let TextureDesc::Image { name, width, height, texels, .. } = &scene.textures[0] else {
         panic!("expected an image texture");
     };
     assert_eq!((name.as_str(), *width, *height), ("wood", 2, 2));

@@ -5,8 +5,8 @@ use std::path::Path;
 
 use glam::{Vec2, Vec3};
 use glint_core::desc::{
-    CameraDesc, LightDesc, MaterialDesc, NodeDesc, NodeKind, RenderSettings, SceneDesc, ShapeDesc, TextureDesc,
-    TransformOp,
+    CameraDesc, Features, LightDesc, MaterialDesc, NodeDesc, NodeKind, RenderSettings, SceneDesc, ShapeDesc,
+    TextureDesc, Transfer, TransformOp,
 };
 use glint_scene::{DEFAULT_SCENE_SOURCE, default_scene, parse_scene};
 
@@ -57,7 +57,8 @@ fn an_empty_file_is_the_default_scene_description() {
 fn settings_properties() {
     let scene = parse(
         "settings { width 320 height 2.4e2 samples 3 max_depth 7 min_contribution 0.01 \
-         background [0.1, 0.2, 0.3] ambient 0.25 }",
+         background [0.1, 0.2, 0.3] ambient 0.25 shadows false reflections true refractions false \
+         textures false output_transfer \"identity\" }",
     );
     assert_eq!(
         scene.settings,
@@ -69,6 +70,8 @@ fn settings_properties() {
             min_contribution: 0.01,
             background: Vec3::new(0.1, 0.2, 0.3),
             ambient_light: Vec3::splat(0.25),
+            features: Features { shadows: false, reflections: true, refractions: false, textures: false },
+            output_transfer: Transfer::Identity,
         }
     );
 }

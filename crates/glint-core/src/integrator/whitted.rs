@@ -32,13 +32,14 @@ pub fn radiance(scene: &RenderScene, ray: &Ray, depth: u32, weight: Vec3, counte
     }
     let worth_tracing = |w: Vec3| w.max_element() > scene.settings.min_contribution;
     let reflected_dir = reflect(d, n);
+    let features = scene.settings.features;
     let reflect_weight = weight * material.reflective;
-    if worth_tracing(reflect_weight) {
+    if features.reflections && worth_tracing(reflect_weight) {
         let r = Ray::new(offset_ray_origin(hit.point, n), reflected_dir);
         color += material.reflective * radiance(scene, &r, depth + 1, reflect_weight, counters);
     }
     let transmit_weight = weight * material.transmissive;
-    if worth_tracing(transmit_weight) {
+    if features.refractions && worth_tracing(transmit_weight) {
         let eta = if entering { 1.0 / material.ior } else { material.ior };
         let transmitted = if material.ior == 1.0 { Some(d) } else { refract(d, n, eta) };
         let r = match transmitted {
@@ -53,7 +54,9 @@ pub fn radiance(scene: &RenderScene, ray: &Ray, depth: u32, weight: Vec3, counte
 
 /// The non-recursive part: ambient plus every unshadowed light's diffuse and specular.
 fn direct_lighting(scene: &RenderScene, hit: &Hit, m: &Material, n: Vec3, v: Vec3, counters: &mut Counters) -> Vec3 {
-    let texel = (m.texture != NO_TEXTURE).then(|| scene.texture(m.texture, hit.uv * m.texture_repeat));
+    let features = scene.settings.features;
+    let texel =
+        (features.textures && m.texture != NO_TEXTURE).then(|| scene.texture(m.texture, hit.uv * m.texture_repeat));
     let diffuse = m.diffuse_with(texel);
     let mut color = scene.settings.ambient_light * m.ambient;
     let shadow_origin = offset_ray_origin(hit.point, n);
@@ -63,9 +66,12 @@ fn direct_lighting(scene: &RenderScene, hit: &Hit, m: &Material, n: Vec3, v: Vec
         if n_dot_l <= 0.0 || incidence.radiance == Vec3::ZERO {
             continue;
         }
-        counters.rays += 1;
-        let shadow_ray = Ray::new(shadow_origin, incidence.to_light);
-        let filter = scene.transmittance(&shadow_ray, incidence.distance);
+        let filter = if features.shadows {
+            counters.rays += 1;
+            scene.transmittance(&Ray::new(shadow_origin, incidence.to_light), incidence.distance)
+        } else {
+            Vec3::ONE
+        };
         if filter == Vec3::ZERO {
             continue;
         }

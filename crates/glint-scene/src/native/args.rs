@@ -149,6 +149,17 @@ pub fn color(src: &Source, node: &Node) -> Result<Vec3> {
     }
 }
 
+/// The single `true`/`false` of a switch like `shadows false`.
+pub fn boolean(src: &Source, node: &Node) -> Result<bool> {
+    let found = match node.args.as_slice() {
+        [Value { kind: ValueKind::Bool(b), .. }] => return Ok(*b),
+        [] => "nothing".to_owned(),
+        [value] => value.describe(),
+        many => format!("{} values", many.len()),
+    };
+    Err(src.invalid(value_pos(node), format!("expected true or false after '{}', found {found}", node.name)))
+}
+
 /// The single quoted string of a node (`material "glass"`), with its position.
 pub fn string(src: &Source, node: &Node, what: &str) -> Result<(String, Pos)> {
     let found = match node.args.as_slice() {

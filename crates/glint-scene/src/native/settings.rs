@@ -1,6 +1,6 @@
 //! `settings { … }` and `camera { … }`: how the image is made and from where.
 
-use glint_core::desc::{CameraDesc, RenderSettings};
+use glint_core::desc::{CameraDesc, RenderSettings, Transfer};
 
 use super::args::{self, Result, Seen};
 use super::builder::Source;
@@ -16,8 +16,20 @@ pub const MAX_SAMPLES_PER_AXIS: u32 = 64;
 /// Deepest recursion accepted for `max_depth`.
 pub const MAX_DEPTH: u32 = 64;
 
-const SETTINGS_PROPERTIES: [&str; 7] =
-    ["width", "height", "samples", "max_depth", "min_contribution", "background", "ambient"];
+const SETTINGS_PROPERTIES: [&str; 12] = [
+    "width",
+    "height",
+    "samples",
+    "max_depth",
+    "min_contribution",
+    "background",
+    "ambient",
+    "shadows",
+    "reflections",
+    "refractions",
+    "textures",
+    "output_transfer",
+];
 
 const CAMERA_PROPERTIES: [&str; 5] = ["eye", "look_at", "look", "up", "fov"];
 
@@ -39,6 +51,22 @@ pub fn settings(src: &Source, node: &Node, settings: &mut RenderSettings) -> Res
             }
             "background" => settings.background = args::color(src, prop)?,
             "ambient" => settings.ambient_light = args::color(src, prop)?,
+            "shadows" => settings.features.shadows = args::boolean(src, prop)?,
+            "reflections" => settings.features.reflections = args::boolean(src, prop)?,
+            "refractions" => settings.features.refractions = args::boolean(src, prop)?,
+            "textures" => settings.features.textures = args::boolean(src, prop)?,
+            "output_transfer" => {
+                settings.output_transfer = match args::string(src, prop, "a transfer")?.0.as_str() {
+                    "srgb" => Transfer::Srgb,
+                    "identity" => Transfer::Identity,
+                    other => {
+                        return Err(src.invalid(
+                            args::value_pos(prop),
+                            format!("unknown output_transfer \"{other}\"; expected \"srgb\" or \"identity\""),
+                        ));
+                    }
+                }
+            }
             _ => {
                 return Err(args::unknown(src, prop, "property", "in 'settings'", &SETTINGS_PROPERTIES));
             }
