@@ -29,7 +29,7 @@ enum Command {
 
 #[derive(clap::Args)]
 struct RenderArgs {
-    /// Scene file to render (.glint). Without one, the built-in default scene is rendered.
+    /// Scene file to render: .glint, course XML/JSON or Ray Tracer Challenge YAML, recognised by content. Without one, the built-in default scene is rendered.
     scene: Option<PathBuf>,
     /// Output image; the format follows the extension (.png, .exr, .ppm) unless --format is given.
     #[arg(short, long, default_value = "glint.png")]
@@ -154,7 +154,13 @@ fn run_render(args: &RenderArgs) -> Result<(), Failure> {
 fn load(path: Option<&Path>) -> Result<SceneDesc, Failure> {
     match path {
         None => Ok(glint_scene::default_scene()),
-        Some(path) => Ok(glint_scene::load_scene(path)?),
+        Some(path) => {
+            let loaded = glint_scene::load_any(path)?;
+            for warning in &loaded.warnings {
+                eprintln!("glint: warning: {warning}");
+            }
+            Ok(loaded.scene)
+        }
     }
 }
 

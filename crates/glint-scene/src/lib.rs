@@ -3,10 +3,12 @@
 //! Every importer produces a [`glint_core::desc::SceneDesc`]; this crate owns the files
 //! (the native `.glint` format and texture images) so that glint-core never touches I/O.
 
+pub mod detect;
 pub mod error;
 pub mod image_out;
 pub mod native;
 pub mod texture_io;
 
+pub use detect::{Loaded, SceneFormat, detect, load_any};
 pub use error::{SceneError, SceneErrorKind};
 pub use native::{DEFAULT_SCENE_SOURCE, default_scene, load_scene, parse_scene};
