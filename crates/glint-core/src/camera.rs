@@ -1,6 +1,6 @@
 //! The lecture's camera: primary rays through points on the film plane.
 
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Vec2, Vec3};
 
 use crate::desc::CameraDesc;
 use crate::math::Ray;
@@ -12,10 +12,20 @@ use crate::math::Ray;
 /// `(x, y, −1)` with x, y ∈ [−1, 1] is taken back to world space by its inverse,
 /// `world_from_canonical`, and the ray runs from the eye through it. The far distance
 /// is irrelevant to directions, so the frustum is built with far = 1.
+///
+/// With an open aperture it is a thin lens (Cook, Porter & Carpenter 1984): rays leave
+/// from a point on a lens disk around the eye and pass through the point of the pinhole
+/// ray that lies on the plane of focus, so only that plane is sharp.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
     pub eye: Vec3,
     pub world_from_canonical: Mat4,
+    /// Unit camera axes: right (u), up (v), and the look direction (−w).
+    pub right: Vec3,
+    pub up: Vec3,
+    pub forward: Vec3,
+    pub aperture_radius: f32,
+    pub focal_distance: f32,
 }
 
 impl Camera {
@@ -29,15 +39,46 @@ impl Camera {
         let rotate = Mat4::from_cols(u.extend(0.0), v.extend(0.0), w.extend(0.0), glam::Vec4::W);
         let unscale = Mat4::from_scale(Vec3::new(tan_x, tan_y, 1.0));
         let world_from_canonical = Mat4::from_translation(desc.eye) * rotate * unscale;
-        Some(Self { eye: desc.eye, world_from_canonical })
+        Some(Self {
+            eye: desc.eye,
+            world_from_canonical,
+            right: u,
+            up: v,
+            forward: -w,
+            aperture_radius: desc.aperture_radius,
+            focal_distance: desc.focal_distance,
+        })
     }
 
-    /// The primary ray through film point `(x, y)` in [−1, 1]² (+y up), unit direction.
+    /// The primary ray through film point `(x, y)` in [−1, 1]² (+y up), unit direction;
+    /// `lens` in [0, 1)² picks the point on the lens (ignored by a pinhole).
     #[inline]
-    pub fn ray(&self, x: f32, y: f32) -> Ray {
+    pub fn ray(&self, x: f32, y: f32, lens: Vec2) -> Ray {
         let film_point = self.world_from_canonical.transform_point3(Vec3::new(x, y, -1.0));
-        Ray::new(self.eye, (film_point - self.eye).normalize())
+        let pinhole = Ray::new(self.eye, (film_point - self.eye).normalize());
+        if self.aperture_radius <= 0.0 {
+            return pinhole;
+        }
+        // The pinhole ray meets the plane of focus at distance f along the look axis.
+        let focus = pinhole.at(self.focal_distance / pinhole.dir.dot(self.forward));
+        let on_lens = self.aperture_radius * concentric_disk(lens);
+        let origin = self.eye + on_lens.x * self.right + on_lens.y * self.up;
+        Ray::new(origin, (focus - origin).normalize())
     }
+}
+
+/// Shirley & Chiu's concentric map from the unit square to the unit disk.
+fn concentric_disk(u: Vec2) -> Vec2 {
+    let d = 2.0 * u - Vec2::ONE;
+    if d == Vec2::ZERO {
+        return Vec2::ZERO;
+    }
+    let (r, theta) = if d.x.abs() > d.y.abs() {
+        (d.x, std::f32::consts::FRAC_PI_4 * (d.y / d.x))
+    } else {
+        (d.y, std::f32::consts::FRAC_PI_2 - std::f32::consts::FRAC_PI_4 * (d.x / d.y))
+    };
+    r * Vec2::new(theta.cos(), theta.sin())
 }
 
 #[cfg(test)]
@@ -51,19 +92,37 @@ mod tests {
             look: Vec3::new(0.0, 0.0, -2.0),
             up: Vec3::Y,
             fov_y_degrees: 90.0,
+            ..Default::default()
         };
         let cam = Camera::new(&desc, 2.0).unwrap();
-        let centre = cam.ray(0.0, 0.0);
+        let centre = cam.ray(0.0, 0.0, Vec2::ZERO);
         assert_eq!(centre.origin, desc.eye);
         assert!((centre.dir - Vec3::NEG_Z).length() < 1e-6);
         // Top edge: 45° up from the axis for a 90° vertical angle.
-        let top = cam.ray(0.0, 1.0).dir;
+        let top = cam.ray(0.0, 1.0, Vec2::ZERO).dir;
         assert!((top.angle_between(Vec3::NEG_Z).to_degrees() - 45.0).abs() < 1e-3);
         assert!(top.y > 0.0);
         // Right edge: atan(2·tan 45°) for aspect 2.
-        let right = cam.ray(1.0, 0.0).dir;
+        let right = cam.ray(1.0, 0.0, Vec2::ZERO).dir;
         assert!((right.angle_between(Vec3::NEG_Z) - 2.0f32.atan()).abs() < 1e-5);
         assert!(right.x > 0.0);
+    }
+
+    #[test]
+    fn thin_lens_rays_converge_on_the_focal_plane() {
+        let desc = CameraDesc { aperture_radius: 0.5, focal_distance: 7.0, ..Default::default() };
+        let cam = Camera::new(&desc, 1.5).unwrap();
+        for (x, y) in [(0.0, 0.0), (0.6, -0.3), (-1.0, 1.0)] {
+            let pinhole = Camera { aperture_radius: 0.0, ..cam }.ray(x, y, Vec2::ZERO);
+            let sharp = pinhole.at(7.0 / pinhole.dir.dot(cam.forward));
+            for lens in [Vec2::new(0.1, 0.9), Vec2::new(0.8, 0.2), Vec2::splat(0.5)] {
+                let r = cam.ray(x, y, lens);
+                assert!((r.origin - cam.eye).length() <= 0.5 + 1e-5);
+                // Every lens ray passes through the same in-focus point.
+                let t = (sharp - r.origin).dot(r.dir);
+                assert!((r.at(t) - sharp).length() < 1e-4, "{x},{y} {lens}");
+            }
+        }
     }
 
     #[test]

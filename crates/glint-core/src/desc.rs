@@ -8,6 +8,8 @@
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
+pub use crate::sampling::{FilterKind, SamplePattern};
+
 /// A whole scene: what to render and how.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct SceneDesc {
@@ -40,6 +42,44 @@ pub struct RenderSettings {
     pub features: Features,
     /// How pixel values are encoded in 8/16-bit outputs.
     pub output_transfer: Transfer,
+    /// Where in each pixel the samples go.
+    pub pattern: SamplePattern,
+    /// How samples are weighted into pixels.
+    pub filter: FilterDesc,
+    /// When set, pixels whose samples disagree get more samples (Sobol positions).
+    pub adaptive: Option<AdaptiveDesc>,
+    /// Seeds every random choice; the same seed gives the same image.
+    pub seed: u32,
+}
+
+/// A reconstruction filter and its radius in pixels.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FilterDesc {
+    pub kind: FilterKind,
+    pub radius: f32,
+}
+
+impl Default for FilterDesc {
+    /// The box over one pixel: each pixel is the plain mean of its own samples.
+    fn default() -> Self {
+        Self { kind: FilterKind::Box, radius: 0.5 }
+    }
+}
+
+/// Adaptive sampling: start with `min_samples` per pixel and add more, doubling, up to
+/// `max_samples` while the standard error of the pixel's (display-encoded) luminance
+/// stays above `threshold`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct AdaptiveDesc {
+    pub min_samples: u32,
+    pub max_samples: u32,
+    pub threshold: f32,
+}
+
+impl Default for AdaptiveDesc {
+    fn default() -> Self {
+        Self { min_samples: 4, max_samples: 64, threshold: 0.01 }
+    }
 }
 
 /// Effects of the Whitted model that can be switched off.
@@ -80,6 +120,10 @@ impl Default for RenderSettings {
             ambient_light: Vec3::splat(0.1),
             features: Features::default(),
             output_transfer: Transfer::Srgb,
+            pattern: SamplePattern::Grid,
+            filter: FilterDesc::default(),
+            adaptive: None,
+            seed: 0,
         }
     }
 }
@@ -94,11 +138,22 @@ pub struct CameraDesc {
     pub up: Vec3,
     /// Full vertical view angle in degrees.
     pub fov_y_degrees: f32,
+    /// Radius of the thin lens; 0 is a pinhole (everything in focus).
+    pub aperture_radius: f32,
+    /// Distance from the eye to the plane in perfect focus (used when the aperture is open).
+    pub focal_distance: f32,
 }
 
 impl Default for CameraDesc {
     fn default() -> Self {
-        Self { eye: Vec3::new(0.0, 0.0, 5.0), look: Vec3::NEG_Z, up: Vec3::Y, fov_y_degrees: 45.0 }
+        Self {
+            eye: Vec3::new(0.0, 0.0, 5.0),
+            look: Vec3::NEG_Z,
+            up: Vec3::Y,
+            fov_y_degrees: 45.0,
+            aperture_radius: 0.0,
+            focal_distance: 1.0,
+        }
     }
 }
 
@@ -113,6 +168,21 @@ pub enum LightDesc {
     /// A point light restricted to a cone: full intensity inside `angle − penumbra`,
     /// a smooth falloff to zero at `angle` (both half-angles from the axis, in degrees).
     Spot { position: Vec3, direction: Vec3, color: Vec3, attenuation: Vec3, angle_degrees: f32, penumbra_degrees: f32 },
+    /// A light with extent, sampled at `samples`×`samples` stratified points so its
+    /// shadows have penumbrae; `color` is its total intensity, shared by the samples.
+    Area { shape: AreaShape, color: Vec3, attenuation: Vec3, samples: u32 },
+}
+
+/// The emitting shape of an area light (it emits from both sides, like a cluster of
+/// point lights; the shape is not itself visible to camera rays).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum AreaShape {
+    /// The parallelogram `corner + u·edge_u + v·edge_v`, u, v ∈ [0, 1].
+    Rectangle { corner: Vec3, edge_u: Vec3, edge_v: Vec3 },
+    /// A disk facing `normal`.
+    Disk { center: Vec3, normal: Vec3, radius: f32 },
+    /// A sphere, sampled over the disk it presents to the shaded point.
+    Sphere { center: Vec3, radius: f32 },
 }
 
 /// The lecture's Whitted material: `k` coefficients times `O` colours.

@@ -3,6 +3,70 @@
 use glam::Vec3;
 
 pub use crate::desc::Transfer;
+use crate::sampling::Filter;
+
+/// Weighted sample sums over a rectangle of pixels: a tile plus the halo its filter
+/// reaches into, or the whole image. A pixel is `Σ w·L / Σ w` over the samples whose
+/// filter footprint covers it (the lecture's "filter to get a weighted average").
+#[derive(Clone, Debug, PartialEq)]
+pub struct FilmTile {
+    pub x0: u32,
+    pub y0: u32,
+    pub width: u32,
+    pub height: u32,
+    sums: Vec<Vec3>,
+    weights: Vec<f32>,
+}
+
+impl FilmTile {
+    pub fn new(x0: u32, y0: u32, width: u32, height: u32) -> Self {
+        let n = width as usize * height as usize;
+        Self { x0, y0, width, height, sums: vec![Vec3::ZERO; n], weights: vec![0.0; n] }
+    }
+
+    /// Adds a sample at continuous film position (`fx`, `fy`) (pixels, y down) to every
+    /// pixel of this rectangle within the filter's radius.
+    pub fn splat(&mut self, filter: &Filter, fx: f32, fy: f32, value: Vec3) {
+        let r = filter.radius;
+        let x_lo = ((fx - 0.5 - r).ceil() as i64).max(self.x0 as i64);
+        let x_hi = ((fx - 0.5 + r).floor() as i64).min(self.x0 as i64 + self.width as i64 - 1);
+        let y_lo = ((fy - 0.5 - r).ceil() as i64).max(self.y0 as i64);
+        let y_hi = ((fy - 0.5 + r).floor() as i64).min(self.y0 as i64 + self.height as i64 - 1);
+        for py in y_lo..=y_hi {
+            for px in x_lo..=x_hi {
+                let w = filter.eval(px as f32 + 0.5 - fx, py as f32 + 0.5 - fy);
+                if w != 0.0 {
+                    let i = ((py - self.y0 as i64) * self.width as i64 + (px - self.x0 as i64)) as usize;
+                    self.sums[i] += w * value;
+                    self.weights[i] += w;
+                }
+            }
+        }
+    }
+
+    /// Adds another rectangle's sums into this one (the parts that overlap).
+    pub fn merge(&mut self, other: &FilmTile) {
+        for y in other.y0.max(self.y0)..(other.y0 + other.height).min(self.y0 + self.height) {
+            for x in other.x0.max(self.x0)..(other.x0 + other.width).min(self.x0 + self.width) {
+                let i = ((y - self.y0) * self.width + (x - self.x0)) as usize;
+                let j = ((y - other.y0) * other.width + (x - other.x0)) as usize;
+                self.sums[i] += other.sums[j];
+                self.weights[i] += other.weights[j];
+            }
+        }
+    }
+
+    /// The weighted averages; a pixel no sample reached is black.
+    pub fn resolve(&self) -> Image {
+        let pixels = self
+            .sums
+            .iter()
+            .zip(&self.weights)
+            .map(|(s, &w)| if w.abs() > 1e-12 { *s / w } else { Vec3::ZERO })
+            .collect();
+        Image { width: self.width, height: self.height, pixels }
+    }
+}
 
 /// A linear-RGB image, row 0 at the top.
 #[derive(Clone, Debug, PartialEq)]

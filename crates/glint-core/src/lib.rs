@@ -13,6 +13,7 @@ pub mod light;
 pub mod material;
 pub mod math;
 pub mod render;
+pub mod sampling;
 pub mod scene;
 pub mod shape;
 pub mod texture;

@@ -1,9 +1,9 @@
 //! Light sources: point (with the lecture's distance attenuation), directional and spot.
 
 use bytemuck::NoUninit;
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
-use crate::desc::LightDesc;
+use crate::desc::{AreaShape, LightDesc};
 
 /// What a [`Light`] record is.
 #[repr(u32)]
@@ -12,6 +12,10 @@ pub enum LightKind {
     Point = 0,
     Directional = 1,
     Spot = 2,
+    /// Area lights: a parallelogram, a disk, a sphere.
+    Rectangle = 3,
+    Disk = 4,
+    Sphere = 5,
 }
 
 /// A light as flat data.
@@ -30,6 +34,13 @@ pub struct Light {
     pub inner_angle: f32,
     /// Spot: angle from the axis where the light ends, radians.
     pub outer_angle: f32,
+    /// Rectangle: the two edges from `position` (its corner).
+    pub edge_u: Vec3,
+    pub edge_v: Vec3,
+    /// Disk and sphere: the radius (`position` is the centre, `direction` the disk's normal).
+    pub radius: f32,
+    /// Area lights: samples along each axis of the stratified pattern.
+    pub samples_per_axis: u32,
 }
 
 /// What a surface point receives from one light before shadowing.
@@ -53,6 +64,10 @@ impl Light {
             attenuation: Vec3::X,
             inner_angle: 0.0,
             outer_angle: 0.0,
+            edge_u: Vec3::ZERO,
+            edge_v: Vec3::ZERO,
+            radius: 0.0,
+            samples_per_axis: 1,
         };
         match *desc {
             LightDesc::Point { position, color, attenuation } => Self { position, color, attenuation, ..base },
@@ -69,9 +84,56 @@ impl Light {
                     attenuation,
                     outer_angle: outer,
                     inner_angle: (outer - penumbra_degrees.to_radians()).max(0.0),
+                    ..base
+                }
+            }
+            LightDesc::Area { shape, color, attenuation, samples } => {
+                let area = Self { color, attenuation, samples_per_axis: samples.max(1), ..base };
+                match shape {
+                    AreaShape::Rectangle { corner, edge_u, edge_v } => {
+                        Self { kind: LightKind::Rectangle, position: corner, edge_u, edge_v, ..area }
+                    }
+                    AreaShape::Disk { center, normal, radius } => {
+                        Self { kind: LightKind::Disk, position: center, direction: normal.normalize(), radius, ..area }
+                    }
+                    AreaShape::Sphere { center, radius } => {
+                        Self { kind: LightKind::Sphere, position: center, radius, ..area }
+                    }
                 }
             }
         }
+    }
+
+    /// How many samples one shading point takes of this light.
+    pub fn sample_count(&self) -> u32 {
+        match self.kind {
+            LightKind::Point | LightKind::Directional | LightKind::Spot => 1,
+            _ => self.samples_per_axis * self.samples_per_axis,
+        }
+    }
+
+    /// Incidence from sample `index` of [`Light::sample_count`], jittered by `jitter` in
+    /// [0, 1)² inside its stratum. An area light's intensity is shared equally by its
+    /// samples, so summing all samples gives the whole light.
+    pub fn sample(&self, p: Vec3, index: u32, jitter: Vec2) -> Incidence {
+        let n = self.samples_per_axis;
+        let u = (Vec2::new((index % n) as f32, (index / n) as f32) + jitter) / n as f32;
+        let point = match self.kind {
+            LightKind::Point | LightKind::Directional | LightKind::Spot => return self.incidence(p),
+            LightKind::Rectangle => self.position + u.x * self.edge_u + u.y * self.edge_v,
+            LightKind::Disk => self.position + disk_point(self.direction, self.radius, u),
+            // The disk the sphere presents to p: the visible part of a sphere light.
+            LightKind::Sphere => self.position + disk_point(p - self.position, self.radius, u),
+        };
+        let offset = point - p;
+        let distance = offset.length();
+        let share = 1.0 / self.sample_count() as f32;
+        Incidence { to_light: offset / distance, distance, radiance: share * self.f_att(distance) * self.color }
+    }
+
+    fn f_att(&self, d: f32) -> f32 {
+        let [c1, c2, c3] = self.attenuation.to_array();
+        (1.0 / (c1 + c2 * d + c3 * d * d)).min(1.0)
     }
 
     /// Direction, distance and unshadowed intensity of this light at `p`.
@@ -82,8 +144,7 @@ impl Light {
         let offset = self.position - p;
         let distance = offset.length();
         let to_light = offset / distance;
-        let [c1, c2, c3] = self.attenuation.to_array();
-        let f_att = (1.0 / (c1 + c2 * distance + c3 * distance * distance)).min(1.0);
+        let f_att = self.f_att(distance);
         let cone = if self.kind == LightKind::Spot { self.spot_falloff(-to_light) } else { 1.0 };
         Incidence { to_light, distance, radiance: f_att * cone * self.color }
     }
@@ -103,6 +164,22 @@ impl Light {
     }
 }
 
+/// A point of the disk of `radius` facing `normal`, from `u` in [0, 1)² by Shirley and
+/// Chiu's concentric mapping (keeps strata compact and equal in area).
+fn disk_point(normal: Vec3, radius: f32, u: Vec2) -> Vec3 {
+    let (tangent, bitangent) = normal.normalize_or(Vec3::Y).any_orthonormal_pair();
+    let d = 2.0 * u - Vec2::ONE;
+    if d == Vec2::ZERO {
+        return Vec3::ZERO;
+    }
+    let (r, theta) = if d.x.abs() > d.y.abs() {
+        (d.x, std::f32::consts::FRAC_PI_4 * (d.y / d.x))
+    } else {
+        (d.y, std::f32::consts::FRAC_PI_2 - std::f32::consts::FRAC_PI_4 * (d.x / d.y))
+    };
+    radius * r * (theta.cos() * tangent + theta.sin() * bitangent)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -118,6 +195,38 @@ mod tests {
         assert_eq!(at(0.1), 1.0); // 1/(0.5+0.025+0.00125) > 1 → capped
         assert!((at(4.0) - 1.0 / (0.5 + 1.0 + 2.0)).abs() < 1e-6);
         assert!((light.incidence(Vec3::new(0.0, 3.0, 4.0)).distance - 5.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn area_light_samples_share_the_intensity_and_cover_the_shape() {
+        let light = Light::compile(&LightDesc::Area {
+            shape: AreaShape::Rectangle {
+                corner: Vec3::new(-1.0, 5.0, -1.0),
+                edge_u: 2.0 * Vec3::X,
+                edge_v: 2.0 * Vec3::Z,
+            },
+            color: Vec3::ONE,
+            attenuation: Vec3::X,
+            samples: 4,
+        });
+        assert_eq!(light.sample_count(), 16);
+        let samples: Vec<Incidence> = (0..16).map(|i| light.sample(Vec3::ZERO, i, Vec2::splat(0.5))).collect();
+        let total: Vec3 = samples.iter().map(|s| s.radiance).sum();
+        assert!((total - Vec3::ONE).length() < 1e-5);
+        // Stratum centres of a 2×2 square seen from below: x and z spread over (−1, 1).
+        let xs: Vec<f32> = samples.iter().map(|s| s.to_light.x * s.distance).collect();
+        assert!((xs.iter().cloned().fold(f32::MAX, f32::min) + 0.75).abs() < 1e-5);
+        assert!((xs.iter().cloned().fold(f32::MIN, f32::max) - 0.75).abs() < 1e-5);
+    }
+
+    #[test]
+    fn disk_samples_stay_on_the_disk() {
+        for i in 0..100 {
+            let u = Vec2::new((i % 10) as f32 / 10.0 + 0.03, (i / 10) as f32 / 10.0 + 0.07);
+            let q = disk_point(Vec3::new(1.0, 1.0, 0.0), 2.0, u);
+            assert!(q.length() <= 2.0 + 1e-5);
+            assert!(q.dot(Vec3::new(1.0, 1.0, 0.0)).abs() < 1e-5);
+        }
     }
 
     #[test]

@@ -1,24 +1,30 @@
 //! Rendering a compiled scene on all cores, tile by tile.
 //!
-//! Every pixel is a pure function of the scene and its position, and tiles are
-//! assembled in a fixed order, so the image is bit-identical for any thread count.
+//! Every sample is a pure function of the scene, its pixel, its index and the seed;
+//! tiles splat into their own buffers (tile plus filter halo) that are merged in a
+//! fixed order, so the image is bit-identical for any thread count.
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
-use crate::film::Image;
-use crate::integrator::{Counters, whitted};
+use crate::film::{FilmTile, Image, linear_to_srgb};
+use crate::integrator::{Counters, TraceContext, whitted};
+use crate::sampling::{PixelSampler, Rng, SamplePattern, hash};
 use crate::scene::RenderScene;
 
 /// Side of the square tiles the image is cut into.
 pub const TILE_SIZE: u32 = 16;
 
 /// What a finished render reports besides the image.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct RenderStats {
+    /// Rays traced: camera, reflected, refracted and shadow rays.
     pub rays: u64,
+    /// Camera samples taken in each pixel, row by row: an AOV that shows where adaptive
+    /// sampling spent its effort.
+    pub samples_per_pixel: Vec<u32>,
 }
 
 /// Why a render returned no image.
@@ -37,18 +43,15 @@ pub fn render(
 ) -> Result<(Image, RenderStats), RenderError> {
     let (width, height) = (scene.settings.width, scene.settings.height);
     let tiles_x = width.div_ceil(TILE_SIZE);
-    let tiles_y = height.div_ceil(TILE_SIZE);
-    let total = (tiles_x * tiles_y) as usize;
+    let total = (tiles_x * height.div_ceil(TILE_SIZE)) as usize;
     let done = AtomicUsize::new(0);
-    let tiles: Vec<Option<(Vec<Vec3>, Counters)>> = (0..total)
+    let tiles: Vec<Option<TileResult>> = (0..total)
         .into_par_iter()
         .map(|i| {
             if cancel.load(Ordering::Relaxed) {
                 return None;
             }
-            let x0 = (i as u32 % tiles_x) * TILE_SIZE;
-            let y0 = (i as u32 / tiles_x) * TILE_SIZE;
-            let tile = render_tile(scene, x0, y0);
+            let tile = render_tile(scene, (i as u32 % tiles_x) * TILE_SIZE, (i as u32 / tiles_x) * TILE_SIZE);
             progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
             Some(tile)
         })
@@ -56,47 +59,182 @@ pub fn render(
     if cancel.load(Ordering::Relaxed) || tiles.iter().any(Option::is_none) {
         return Err(RenderError::Cancelled);
     }
-    let mut image = Image::new(width, height);
-    let mut stats = RenderStats::default();
-    for (i, (pixels, counters)) in tiles.into_iter().flatten().enumerate() {
-        let x0 = (i as u32 % tiles_x) * TILE_SIZE;
-        let y0 = (i as u32 / tiles_x) * TILE_SIZE;
-        let tile_w = TILE_SIZE.min(width - x0);
-        for (row, chunk) in pixels.chunks(tile_w as usize).enumerate() {
-            let start = ((y0 + row as u32) * width + x0) as usize;
-            image.pixels[start..start + chunk.len()].copy_from_slice(chunk);
+    let mut film = FilmTile::new(0, 0, width, height);
+    let mut stats = RenderStats { rays: 0, samples_per_pixel: vec![0; (width * height) as usize] };
+    for tile in tiles.into_iter().flatten() {
+        film.merge(&tile.film);
+        stats.rays += tile.counters.rays;
+        for (row, counts) in tile.samples.chunks(tile.width as usize).enumerate() {
+            let start = ((tile.y0 + row as u32) * width + tile.x0) as usize;
+            stats.samples_per_pixel[start..start + counts.len()].copy_from_slice(counts);
         }
-        stats.rays += counters.rays;
     }
-    Ok((image, stats))
+    Ok((film.resolve(), stats))
 }
 
-/// The pixels of one tile, row by row, each the box-filtered mean of an n×n grid of
-/// sub-pixel samples.
-fn render_tile(scene: &RenderScene, x0: u32, y0: u32) -> (Vec<Vec3>, Counters) {
+struct TileResult {
+    film: FilmTile,
+    x0: u32,
+    y0: u32,
+    width: u32,
+    samples: Vec<u32>,
+    counters: Counters,
+}
+
+fn render_tile(scene: &RenderScene, x0: u32, y0: u32) -> TileResult {
     let s = &scene.settings;
     let x1 = (x0 + TILE_SIZE).min(s.width);
     let y1 = (y0 + TILE_SIZE).min(s.height);
-    let n = s.samples_per_axis;
-    let inv_samples = 1.0 / (n * n) as f32;
+    // The filter reaches this many pixels beyond the tile.
+    let halo = (s.filter.radius - 0.5).ceil().max(0.0) as u32;
+    let (fx0, fy0) = (x0.saturating_sub(halo), y0.saturating_sub(halo));
+    let (fx1, fy1) = ((x1 + halo).min(s.width), (y1 + halo).min(s.height));
+    let mut film = FilmTile::new(fx0, fy0, fx1 - fx0, fy1 - fy0);
     let mut counters = Counters::default();
-    let mut pixels = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
+    let mut samples = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
     for py in y0..y1 {
         for px in x0..x1 {
-            let mut sum = Vec3::ZERO;
-            for sy in 0..n {
-                for sx in 0..n {
-                    let fx = px as f32 + (sx as f32 + 0.5) / n as f32;
-                    let fy = py as f32 + (sy as f32 + 0.5) / n as f32;
-                    // Screen space to the film plane: x, y in [−1, 1], +y up.
-                    let x = 2.0 * fx / s.width as f32 - 1.0;
-                    let y = 1.0 - 2.0 * fy / s.height as f32;
-                    let ray = scene.camera.ray(x, y);
-                    sum += whitted::radiance(scene, &ray, 0, Vec3::ONE, &mut counters);
-                }
-            }
-            pixels.push(sum * inv_samples);
+            samples.push(sample_pixel(scene, px, py, &mut film, &mut counters));
         }
     }
-    (pixels, counters)
+    TileResult { film, x0, y0, width: x1 - x0, samples, counters }
+}
+
+/// Takes every sample of one pixel, splatting each into `film`; returns the count.
+fn sample_pixel(scene: &RenderScene, px: u32, py: u32, film: &mut FilmTile, counters: &mut Counters) -> u32 {
+    let s = &scene.settings;
+    let Some(adaptive) = s.adaptive else {
+        for index in 0..s.sampler.count() {
+            take_sample(scene, &s.sampler, px, py, index, film, counters);
+        }
+        return s.sampler.count();
+    };
+    // Adaptive: Sobol positions, whose every power-of-two prefix is stratified, so the
+    // pixel can stop after any doubling and still be evenly covered.
+    let sampler = PixelSampler { pattern: SamplePattern::Sobol, ..s.sampler };
+    let mut spread = Spread::default();
+    let mut target = adaptive.min_samples;
+    loop {
+        while spread.count < target {
+            let value = take_sample(scene, &sampler, px, py, spread.count, film, counters);
+            spread.add(display_luminance(value));
+        }
+        if spread.count >= adaptive.max_samples || spread.standard_error() <= adaptive.threshold {
+            return spread.count;
+        }
+        target = (target * 2).min(adaptive.max_samples);
+    }
+}
+
+/// Traces sample `index` of pixel (`px`, `py`) and splats it; returns its value.
+fn take_sample(
+    scene: &RenderScene,
+    sampler: &PixelSampler,
+    px: u32,
+    py: u32,
+    index: u32,
+    film: &mut FilmTile,
+    counters: &mut Counters,
+) -> Vec3 {
+    let s = &scene.settings;
+    let offset = sampler.offset(px, py, index);
+    let (fx, fy) = (px as f32 + offset.x, py as f32 + offset.y);
+    let mut ctx = TraceContext { counters: Counters::default(), rng: Rng::new(hash(&[px, py, index, s.seed])) };
+    let lens = Vec2::new(ctx.rng.next_f32(), ctx.rng.next_f32());
+    let value = trace_film_point(scene, fx, fy, lens, &mut ctx);
+    counters.rays += ctx.counters.rays;
+    film.splat(&s.filter, fx, fy, value);
+    value
+}
+
+/// Radiance through film position (`fx`, `fy`) in pixels (y down). A non-finite result
+/// (a NaN from a degenerate configuration) becomes black instead of poisoning the pixel.
+fn trace_film_point(scene: &RenderScene, fx: f32, fy: f32, lens: Vec2, ctx: &mut TraceContext) -> Vec3 {
+    let s = &scene.settings;
+    // Screen space to the film plane: x, y in [−1, 1], +y up.
+    let x = 2.0 * fx / s.width as f32 - 1.0;
+    let y = 1.0 - 2.0 * fy / s.height as f32;
+    let ray = scene.camera.ray(x, y, lens);
+    let value = whitted::radiance(scene, &ray, 0, Vec3::ONE, ctx);
+    if value.is_finite() { value } else { Vec3::ZERO }
+}
+
+/// Luminance after sRGB encoding: differences the eye sees equally weigh equally, so
+/// dark regions are not undersampled.
+fn display_luminance(c: Vec3) -> f32 {
+    linear_to_srgb(c.dot(Vec3::new(0.2126, 0.7152, 0.0722)))
+}
+
+/// Running mean and variance (Welford), for the adaptive stopping rule.
+#[derive(Default)]
+struct Spread {
+    count: u32,
+    mean: f64,
+    m2: f64,
+}
+
+impl Spread {
+    fn add(&mut self, x: f32) {
+        self.count += 1;
+        let delta = x as f64 - self.mean;
+        self.mean += delta / self.count as f64;
+        self.m2 += delta * (x as f64 - self.mean);
+    }
+
+    /// Standard error of the mean, `√(s²/n)`.
+    fn standard_error(&self) -> f32 {
+        if self.count < 2 {
+            return f32::INFINITY;
+        }
+        (self.m2 / (self.count - 1) as f64 / self.count as f64).sqrt() as f32
+    }
+}
+
+/// A quick look: one sample at the centre of each `block`×`block` group of pixels,
+/// filling the group — far fewer samples than pixels. [`render_progressive`] refines it.
+pub fn render_preview(scene: &RenderScene, block: u32) -> Image {
+    let (width, height) = (scene.settings.width, scene.settings.height);
+    let block = block.max(1);
+    let rows: Vec<Vec<Vec3>> = (0..height.div_ceil(block))
+        .into_par_iter()
+        .map(|by| {
+            (0..width.div_ceil(block))
+                .map(|bx| {
+                    let cx = ((bx * block) as f32 + 0.5 * block as f32).min(width as f32 - 0.5);
+                    let cy = ((by * block) as f32 + 0.5 * block as f32).min(height as f32 - 0.5);
+                    let mut ctx = TraceContext { counters: Counters::default(), rng: Rng::new(hash(&[bx, by])) };
+                    trace_film_point(scene, cx, cy, Vec2::splat(0.5), &mut ctx)
+                })
+                .collect()
+        })
+        .collect();
+    let mut image = Image::new(width, height);
+    for y in 0..height {
+        for x in 0..width {
+            image.pixels[(y * width + x) as usize] = rows[(y / block) as usize][(x / block) as usize];
+        }
+    }
+    image
+}
+
+/// Subsampled previews at halving block sizes, then the full render; `on_pass` sees
+/// each image as it is ready (a viewer shows it, the CLI rewrites the output file).
+pub fn render_progressive(
+    scene: &RenderScene,
+    first_block: u32,
+    on_pass: &mut dyn FnMut(&Image, u32),
+    progress: &(dyn Fn(usize, usize) + Sync),
+    cancel: &AtomicBool,
+) -> Result<(Image, RenderStats), RenderError> {
+    let mut block = first_block.next_power_of_two();
+    while block > 1 {
+        if cancel.load(Ordering::Relaxed) {
+            return Err(RenderError::Cancelled);
+        }
+        on_pass(&render_preview(scene, block), block);
+        block /= 2;
+    }
+    let result = render(scene, progress, cancel)?;
+    on_pass(&result.0, 1);
+    Ok(result)
 }

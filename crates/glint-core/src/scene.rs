@@ -5,10 +5,11 @@ use glam::{Mat4, Vec2, Vec3};
 
 use crate::accel::Bvh;
 use crate::camera::Camera;
-use crate::desc::{Features, NodeDesc, NodeKind, SceneDesc, ShapeDesc, TransformOp};
+use crate::desc::{AdaptiveDesc, Features, NodeDesc, NodeKind, SceneDesc, ShapeDesc, TransformOp};
 use crate::light::Light;
 use crate::material::Material;
 use crate::math::{Aabb, Ray, Transform, offset_ray_origin};
+use crate::sampling::{Filter, PixelSampler};
 use crate::shape::{Primitive, Shape, ShapeKind};
 use crate::texture::Texture;
 
@@ -33,6 +34,10 @@ pub struct Settings {
     pub background: Vec3,
     pub ambient_light: Vec3,
     pub features: Features,
+    pub sampler: PixelSampler,
+    pub filter: Filter,
+    pub adaptive: Option<AdaptiveDesc>,
+    pub seed: u32,
 }
 
 /// Everything a backend needs, as flat arrays of plain records.
@@ -151,6 +156,12 @@ pub fn compile(desc: &SceneDesc) -> Result<RenderScene, CompileError> {
     })
 }
 
+/// The thin-lens parameters make sense.
+fn lens_valid(desc: &SceneDesc) -> bool {
+    let c = &desc.camera;
+    c.aperture_radius >= 0.0 && c.aperture_radius.is_finite() && c.focal_distance > 0.0 && c.focal_distance.is_finite()
+}
+
 fn finite_camera(desc: &SceneDesc) -> bool {
     let c = &desc.camera;
     c.eye.is_finite() && c.look.is_finite() && c.up.is_finite() && c.fov_y_degrees > 0.0 && c.fov_y_degrees < 180.0
@@ -174,6 +185,20 @@ fn compile_settings(desc: &SceneDesc) -> Result<Settings, CompileError> {
     if !(s.background.is_finite() && s.ambient_light.is_finite() && s.min_contribution.is_finite()) {
         return Err(invalid("settings", "background, ambient and min_contribution must be finite"));
     }
+    let filter = Filter::new(s.filter.kind, s.filter.radius).ok_or_else(|| {
+        invalid("settings", format!("filter radius {} is out of range (0, 8] pixels", s.filter.radius))
+    })?;
+    if let Some(a) = s.adaptive
+        && !(a.min_samples >= 1 && a.max_samples >= a.min_samples && a.max_samples <= 4096 && a.threshold >= 0.0)
+    {
+        return Err(invalid(
+            "settings",
+            "adaptive sampling needs 1 <= min_samples <= max_samples <= 4096 and a threshold >= 0",
+        ));
+    }
+    if !lens_valid(desc) {
+        return Err(invalid("camera", "aperture_radius must be >= 0 and focal_distance > 0"));
+    }
     Ok(Settings {
         width: s.width,
         height: s.height,
@@ -183,6 +208,10 @@ fn compile_settings(desc: &SceneDesc) -> Result<Settings, CompileError> {
         background: s.background,
         ambient_light: s.ambient_light,
         features: s.features,
+        sampler: PixelSampler { pattern: s.pattern, per_axis: s.samples_per_axis, seed: s.seed },
+        filter,
+        adaptive: s.adaptive,
+        seed: s.seed,
     })
 }
 

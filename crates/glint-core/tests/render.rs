@@ -22,7 +22,13 @@ fn node(shape: ShapeDesc, material: usize, transform: Vec<TransformOp>) -> NodeD
 fn facing_plane(material: MaterialDesc, lights: Vec<LightDesc>, ambient: Vec3, background: Vec3) -> SceneDesc {
     SceneDesc {
         settings: RenderSettings { width: 1, height: 1, background, ambient_light: ambient, ..Default::default() },
-        camera: CameraDesc { eye: Vec3::new(0.0, 0.0, 5.0), look: Vec3::NEG_Z, up: Vec3::Y, fov_y_degrees: 30.0 },
+        camera: CameraDesc {
+            eye: Vec3::new(0.0, 0.0, 5.0),
+            look: Vec3::NEG_Z,
+            up: Vec3::Y,
+            fov_y_degrees: 30.0,
+            ..Default::default()
+        },
         lights,
         materials: vec![material],
         textures: vec![],
@@ -198,6 +204,7 @@ fn sphere_at_scale(material: MaterialDesc, scale: f32, offset: Vec3) -> SceneDes
             look: Vec3::NEG_Z,
             up: Vec3::Y,
             fov_y_degrees: 40.0,
+            ..Default::default()
         },
         lights: vec![],
         materials: vec![material],
@@ -249,6 +256,7 @@ fn no_shadow_acne_at_any_scale() {
                 look: Vec3::NEG_Z,
                 up: Vec3::Y,
                 fov_y_degrees: 40.0,
+                ..Default::default()
             },
             lights: vec![LightDesc::Directional { direction: -l, color: Vec3::ONE }],
             materials: vec![m],
@@ -264,7 +272,11 @@ fn no_shadow_acne_at_any_scale() {
         let mut lit = 0;
         for y in 0..48 {
             for x in 0..48 {
-                let ray = scene.camera.ray(2.0 * (x as f32 + 0.5) / 48.0 - 1.0, 1.0 - 2.0 * (y as f32 + 0.5) / 48.0);
+                let ray = scene.camera.ray(
+                    2.0 * (x as f32 + 0.5) / 48.0 - 1.0,
+                    1.0 - 2.0 * (y as f32 + 0.5) / 48.0,
+                    Vec2::ZERO,
+                );
                 let Some(hit) = scene.intersect(&ray, f32::INFINITY) else { continue };
                 let n_dot_l = hit.normal.dot(l);
                 if n_dot_l > 0.02 {
@@ -325,6 +337,7 @@ fn busy_scene() -> SceneDesc {
             look: Vec3::new(0.0, -0.4, -1.0),
             up: Vec3::Y,
             fov_y_degrees: 50.0,
+            ..Default::default()
         },
         lights: vec![
             LightDesc::Point { position: Vec3::new(4.0, 8.0, 6.0), color: Vec3::ONE, attenuation: Vec3::X },

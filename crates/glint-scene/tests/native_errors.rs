@@ -178,7 +178,7 @@ fn degenerate_cameras_and_lights_are_refused() {
 fn light_and_texture_need_a_known_type() {
     assert_error("light { position [0 1 0] }", 1, 7, "needs its type before the block");
     assert_error("light\n", 1, 1, "expected a light type after 'light'; one of: point, directional, spot");
-    assert_error("light sphere {}", 1, 7, "unknown light type 'sphere'");
+    assert_error("light area {}", 1, 7, "unknown light type 'area'");
     assert_error("light \"key\" point {}", 1, 7, "'light' takes no values");
     assert_error("texture \"t\" marble {}", 1, 13, "unknown texture type 'marble'; expected one of: checker, image");
     assert_error("texture checker {}", 1, 1, "expected a texture name in quotes");

@@ -72,6 +72,7 @@ fn settings_properties() {
             ambient_light: Vec3::splat(0.25),
             features: Features { shadows: false, reflections: true, refractions: false, textures: false },
             output_transfer: Transfer::Identity,
+            ..RenderSettings::default()
         }
     );
 }
@@ -92,8 +93,46 @@ fn camera_look_at_becomes_a_direction() {
             look: Vec3::new(0.0, -1.0, -8.0),
             up: Vec3::Y,
             fov_y_degrees: 30.0,
+            aperture_radius: 0.0,
+            focal_distance: Vec3::new(0.0, -1.0, -8.0).length(),
         }
     );
+}
+
+#[test]
+fn sampling_lens_and_area_light_properties() {
+    let scene = parse(
+        "settings { samples 3 pattern \"sobol\" filter \"mitchell\" filter_radius 2 adaptive [4 64 0.02] seed 7 }
+         camera { eye [0 0 5] look_at [0 0 0] aperture 0.1 }
+         light rectangle { corner [-1 4 -1] edge_u [2 0 0] edge_v [0 0 2] color 0.5 samples 3 }
+         light disk { position [0 3 0] normal [0 -1 0] radius 0.25 }
+         light sphere { position [1 3 0] radius 0.5 samples 2 }",
+    );
+    let s = &scene.settings;
+    assert_eq!(s.pattern, glint_core::desc::SamplePattern::Sobol);
+    assert_eq!(s.filter, glint_core::desc::FilterDesc { kind: glint_core::desc::FilterKind::Mitchell, radius: 2.0 });
+    assert_eq!(s.adaptive, Some(glint_core::desc::AdaptiveDesc { min_samples: 4, max_samples: 64, threshold: 0.02 }));
+    assert_eq!(s.seed, 7);
+    assert_eq!((scene.camera.aperture_radius, scene.camera.focal_distance), (0.1, 5.0));
+    use glint_core::desc::AreaShape;
+    assert_eq!(
+        scene.lights[0],
+        LightDesc::Area {
+            shape: AreaShape::Rectangle {
+                corner: Vec3::new(-1.0, 4.0, -1.0),
+                edge_u: 2.0 * Vec3::X,
+                edge_v: 2.0 * Vec3::Z
+            },
+            color: Vec3::splat(0.5),
+            attenuation: Vec3::X,
+            samples: 3,
+        }
+    );
+    assert!(matches!(scene.lights[1], LightDesc::Area { shape: AreaShape::Disk { radius: 0.25, .. }, samples: 4, .. }));
+    assert!(matches!(
+        scene.lights[2],
+        LightDesc::Area { shape: AreaShape::Sphere { radius: 0.5, .. }, samples: 2, .. }
+    ));
 }
 
 #[test]

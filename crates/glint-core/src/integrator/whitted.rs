@@ -8,15 +8,17 @@
 
 use glam::Vec3;
 
-use super::Counters;
+use glam::Vec2;
+
+use super::TraceContext;
 use crate::material::{Material, NO_TEXTURE};
 use crate::math::{Ray, offset_ray_origin};
 use crate::scene::{Hit, RenderScene};
 
 /// Radiance arriving along `ray`. `weight` is the product of the `k·O` factors that
 /// lead from the pixel to this ray, used only to stop negligible recursion.
-pub fn radiance(scene: &RenderScene, ray: &Ray, depth: u32, weight: Vec3, counters: &mut Counters) -> Vec3 {
-    counters.rays += 1;
+pub fn radiance(scene: &RenderScene, ray: &Ray, depth: u32, weight: Vec3, ctx: &mut TraceContext) -> Vec3 {
+    ctx.counters.rays += 1;
     let Some(hit) = scene.intersect(ray, f32::INFINITY) else {
         return scene.settings.background;
     };
@@ -25,7 +27,7 @@ pub fn radiance(scene: &RenderScene, ray: &Ray, depth: u32, weight: Vec3, counte
     // Shade the side the ray arrived on: n faces the viewer.
     let entering = hit.normal.dot(d) < 0.0;
     let n = if entering { hit.normal } else { -hit.normal };
-    let mut color = direct_lighting(scene, &hit, material, n, -d, counters);
+    let mut color = direct_lighting(scene, &hit, material, n, -d, ctx);
 
     if depth >= scene.settings.max_depth {
         return color;
@@ -36,7 +38,7 @@ pub fn radiance(scene: &RenderScene, ray: &Ray, depth: u32, weight: Vec3, counte
     let reflect_weight = weight * material.reflective;
     if features.reflections && worth_tracing(reflect_weight) {
         let r = Ray::new(offset_ray_origin(hit.point, n), reflected_dir);
-        color += material.reflective * radiance(scene, &r, depth + 1, reflect_weight, counters);
+        color += material.reflective * radiance(scene, &r, depth + 1, reflect_weight, ctx);
     }
     let transmit_weight = weight * material.transmissive;
     if features.refractions && worth_tracing(transmit_weight) {
@@ -47,13 +49,13 @@ pub fn radiance(scene: &RenderScene, ray: &Ray, depth: u32, weight: Vec3, counte
             // Total internal reflection: the transmitted share is reflected instead.
             None => Ray::new(offset_ray_origin(hit.point, n), reflected_dir),
         };
-        color += material.transmissive * radiance(scene, &r, depth + 1, transmit_weight, counters);
+        color += material.transmissive * radiance(scene, &r, depth + 1, transmit_weight, ctx);
     }
     color
 }
 
 /// The non-recursive part: ambient plus every unshadowed light's diffuse and specular.
-fn direct_lighting(scene: &RenderScene, hit: &Hit, m: &Material, n: Vec3, v: Vec3, counters: &mut Counters) -> Vec3 {
+fn direct_lighting(scene: &RenderScene, hit: &Hit, m: &Material, n: Vec3, v: Vec3, ctx: &mut TraceContext) -> Vec3 {
     let features = scene.settings.features;
     let texel =
         (features.textures && m.texture != NO_TEXTURE).then(|| scene.texture(m.texture, hit.uv * m.texture_repeat));
@@ -61,23 +63,27 @@ fn direct_lighting(scene: &RenderScene, hit: &Hit, m: &Material, n: Vec3, v: Vec
     let mut color = scene.settings.ambient_light * m.ambient;
     let shadow_origin = offset_ray_origin(hit.point, n);
     for light in &scene.lights {
-        let incidence = light.incidence(hit.point);
-        let n_dot_l = n.dot(incidence.to_light);
-        if n_dot_l <= 0.0 || incidence.radiance == Vec3::ZERO {
-            continue;
+        // An area light is the sum of its stratified samples; the others have one.
+        for index in 0..light.sample_count() {
+            let jitter = Vec2::new(ctx.rng.next_f32(), ctx.rng.next_f32());
+            let incidence = light.sample(hit.point, index, jitter);
+            let n_dot_l = n.dot(incidence.to_light);
+            if n_dot_l <= 0.0 || incidence.radiance == Vec3::ZERO {
+                continue;
+            }
+            let filter = if features.shadows {
+                ctx.counters.rays += 1;
+                scene.transmittance(&Ray::new(shadow_origin, incidence.to_light), incidence.distance)
+            } else {
+                Vec3::ONE
+            };
+            if filter == Vec3::ZERO {
+                continue;
+            }
+            let r = reflect(-incidence.to_light, n);
+            let highlight = if m.specular == Vec3::ZERO { 0.0 } else { r.dot(v).max(0.0).powf(m.shininess) };
+            color += filter * incidence.radiance * (diffuse * n_dot_l + m.specular * highlight);
         }
-        let filter = if features.shadows {
-            counters.rays += 1;
-            scene.transmittance(&Ray::new(shadow_origin, incidence.to_light), incidence.distance)
-        } else {
-            Vec3::ONE
-        };
-        if filter == Vec3::ZERO {
-            continue;
-        }
-        let r = reflect(-incidence.to_light, n);
-        let highlight = if m.specular == Vec3::ZERO { 0.0 } else { r.dot(v).max(0.0).powf(m.shininess) };
-        color += filter * incidence.radiance * (diffuse * n_dot_l + m.specular * highlight);
     }
     color
 }

@@ -1,14 +1,17 @@
-//! `light point|directional|spot { … }`.
+//! `light point|directional|spot|rectangle|disk|sphere { … }`.
 
 use glam::Vec3;
-use glint_core::desc::LightDesc;
+use glint_core::desc::{AreaShape, LightDesc};
 
 use super::args::{self, Result, Seen};
 use super::builder::Source;
 use super::tree::Node;
 
 /// The light types, in the order the documentation lists them.
-pub const KINDS: [&str; 3] = ["point", "directional", "spot"];
+pub const KINDS: [&str; 6] = ["point", "directional", "spot", "rectangle", "disk", "sphere"];
+
+/// Default stratified samples per axis of an area light (4×4 = 16 shadow rays).
+const AREA_SAMPLES: u32 = 4;
 
 /// Default `attenuation`: `f_att = 1/(1 + 0·d + 0·d²)`, no falloff.
 const NO_FALLOFF: Vec3 = Vec3::X;
@@ -22,8 +25,16 @@ pub fn light(src: &Source, kind: &Node) -> Result<LightDesc> {
     let allowed: &[&str] = match kind.name.as_str() {
         "point" => &["position", "color", "attenuation"],
         "directional" => &["direction", "color"],
-        _ => &["position", "direction", "color", "attenuation", "angle", "penumbra"],
+        "spot" => &["position", "direction", "color", "attenuation", "angle", "penumbra"],
+        "rectangle" => &["corner", "edge_u", "edge_v", "color", "attenuation", "samples"],
+        "disk" => &["position", "normal", "radius", "color", "attenuation", "samples"],
+        _ => &["position", "radius", "color", "attenuation", "samples"],
     };
+    let mut corner = Vec3::ZERO;
+    let mut edges = (Vec3::X, Vec3::Z);
+    let mut normal = Vec3::NEG_Y;
+    let mut radius = 0.5;
+    let mut samples = AREA_SAMPLES;
     let mut position = Vec3::ZERO;
     let mut direction = Vec3::NEG_Y;
     let mut color = Vec3::ONE;
@@ -42,6 +53,12 @@ pub fn light(src: &Source, kind: &Node) -> Result<LightDesc> {
             "direction" => direction = args::direction(src, prop)?,
             "color" => color = args::color(src, prop)?,
             "attenuation" => attenuation = self::attenuation(src, prop)?,
+            "corner" => corner = args::vec3(src, prop)?,
+            "edge_u" => edges.0 = args::direction(src, prop)?,
+            "edge_v" => edges.1 = args::direction(src, prop)?,
+            "normal" => normal = args::direction(src, prop)?,
+            "radius" => radius = args::number_where(src, prop, "above 0", |x| x > 0.0)?,
+            "samples" => samples = args::whole(src, prop, 1, 64)?,
             "angle" => {
                 angle = args::number_where(src, prop, "a half-angle above 0 and at most 90 degrees", |x| {
                     x > 0.0 && x <= 90.0
@@ -55,6 +72,16 @@ pub fn light(src: &Source, kind: &Node) -> Result<LightDesc> {
     Ok(match kind.name.as_str() {
         "point" => LightDesc::Point { position, color, attenuation },
         "directional" => LightDesc::Directional { direction, color },
+        "rectangle" => {
+            let shape = AreaShape::Rectangle { corner, edge_u: edges.0, edge_v: edges.1 };
+            LightDesc::Area { shape, color, attenuation, samples }
+        }
+        "disk" => {
+            LightDesc::Area { shape: AreaShape::Disk { center: position, normal, radius }, color, attenuation, samples }
+        }
+        "sphere" => {
+            LightDesc::Area { shape: AreaShape::Sphere { center: position, radius }, color, attenuation, samples }
+        }
         _ => {
             if penumbra > angle {
                 let at = seen.get("penumbra").unwrap_or(kind.pos());

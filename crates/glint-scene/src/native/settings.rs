@@ -1,6 +1,6 @@
 //! `settings { … }` and `camera { … }`: how the image is made and from where.
 
-use glint_core::desc::{CameraDesc, RenderSettings, Transfer};
+use glint_core::desc::{AdaptiveDesc, CameraDesc, FilterKind, RenderSettings, SamplePattern, Transfer};
 
 use super::args::{self, Result, Seen};
 use super::builder::Source;
@@ -16,7 +16,7 @@ pub const MAX_SAMPLES_PER_AXIS: u32 = 64;
 /// Deepest recursion accepted for `max_depth`.
 pub const MAX_DEPTH: u32 = 64;
 
-const SETTINGS_PROPERTIES: [&str; 12] = [
+const SETTINGS_PROPERTIES: [&str; 17] = [
     "width",
     "height",
     "samples",
@@ -29,9 +29,14 @@ const SETTINGS_PROPERTIES: [&str; 12] = [
     "refractions",
     "textures",
     "output_transfer",
+    "pattern",
+    "filter",
+    "filter_radius",
+    "adaptive",
+    "seed",
 ];
 
-const CAMERA_PROPERTIES: [&str; 5] = ["eye", "look_at", "look", "up", "fov"];
+const CAMERA_PROPERTIES: [&str; 7] = ["eye", "look_at", "look", "up", "fov", "aperture", "focal_distance"];
 
 /// Applies a `settings` block on top of `settings` (which starts at the defaults).
 pub fn settings(src: &Source, node: &Node, settings: &mut RenderSettings) -> Result<()> {
@@ -55,6 +60,14 @@ pub fn settings(src: &Source, node: &Node, settings: &mut RenderSettings) -> Res
             "reflections" => settings.features.reflections = args::boolean(src, prop)?,
             "refractions" => settings.features.refractions = args::boolean(src, prop)?,
             "textures" => settings.features.textures = args::boolean(src, prop)?,
+            "pattern" => settings.pattern = pattern(src, prop)?,
+            "filter" => settings.filter.kind = filter_kind(src, prop)?,
+            "filter_radius" => {
+                settings.filter.radius =
+                    args::number_where(src, prop, "above 0 and at most 8 pixels", |x| x > 0.0 && x <= 8.0)?;
+            }
+            "adaptive" => settings.adaptive = Some(adaptive(src, prop)?),
+            "seed" => settings.seed = args::whole(src, prop, 0, u32::MAX)?,
             "output_transfer" => {
                 settings.output_transfer = match args::string(src, prop, "a transfer")?.0.as_str() {
                     "srgb" => Transfer::Srgb,
@@ -73,6 +86,56 @@ pub fn settings(src: &Source, node: &Node, settings: &mut RenderSettings) -> Res
         }
     }
     Ok(())
+}
+
+/// `pattern "grid"|"corners"|"jittered"|"sobol"`.
+fn pattern(src: &Source, prop: &Node) -> Result<SamplePattern> {
+    let (name, pos) = args::string(src, prop, "a sample pattern")?;
+    Ok(match name.as_str() {
+        "grid" => SamplePattern::Grid,
+        "corners" => SamplePattern::CornersAndCentre,
+        "jittered" => SamplePattern::Jittered,
+        "sobol" => SamplePattern::Sobol,
+        other => {
+            return Err(src.invalid(
+                pos,
+                format!("unknown pattern \"{other}\"; expected \"grid\", \"corners\", \"jittered\" or \"sobol\""),
+            ));
+        }
+    })
+}
+
+/// `filter "box"|"tent"|"gaussian"|"mitchell"|"lanczos"`.
+fn filter_kind(src: &Source, prop: &Node) -> Result<FilterKind> {
+    let (name, pos) = args::string(src, prop, "a filter")?;
+    Ok(match name.as_str() {
+        "box" => FilterKind::Box,
+        "tent" => FilterKind::Tent,
+        "gaussian" => FilterKind::Gaussian,
+        "mitchell" => FilterKind::Mitchell,
+        "lanczos" => FilterKind::Lanczos,
+        other => {
+            return Err(src.invalid(
+                pos,
+                format!(
+                    "unknown filter \"{other}\"; expected \"box\", \"tent\", \"gaussian\", \"mitchell\" or \"lanczos\""
+                ),
+            ));
+        }
+    })
+}
+
+/// `adaptive [min max threshold]`.
+fn adaptive(src: &Source, prop: &Node) -> Result<AdaptiveDesc> {
+    let v = args::numbers(src, prop, &[3])?;
+    let ok = v[0] >= 1.0 && v[1] >= v[0] && v[1] <= 4096.0 && v[2] >= 0.0 && v[0].fract() == 0.0 && v[1].fract() == 0.0;
+    if !ok {
+        return Err(src.invalid(
+            args::value_pos(prop),
+            "'adaptive [min max threshold]' needs whole 1 <= min <= max <= 4096 and threshold >= 0",
+        ));
+    }
+    Ok(AdaptiveDesc { min_samples: v[0] as u32, max_samples: v[1] as u32, threshold: v[2] })
 }
 
 /// Builds a `camera` block; unset properties keep [`CameraDesc::default`].
@@ -94,6 +157,8 @@ pub fn camera(src: &Source, node: &Node) -> Result<CameraDesc> {
                         x > 0.0 && x < 180.0
                     })?;
             }
+            "aperture" => camera.aperture_radius = args::number_where(src, prop, "0 or more", |x| x >= 0.0)?,
+            "focal_distance" => camera.focal_distance = args::number_where(src, prop, "above 0", |x| x > 0.0)?,
             _ => {
                 return Err(args::unknown(src, prop, "property", "in 'camera'", &CAMERA_PROPERTIES));
             }
@@ -120,6 +185,10 @@ pub fn camera(src: &Source, node: &Node) -> Result<CameraDesc> {
             ));
         }
         camera.look = look;
+        if seen.get("focal_distance").is_none() {
+            // An open lens focuses on the point looked at unless told otherwise.
+            camera.focal_distance = look.length();
+        }
     }
     let sine = camera.look.normalize().cross(camera.up.normalize()).length();
     if sine.is_nan() || sine < 1e-4 {
