@@ -7,8 +7,10 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use glint_core::desc::SceneDesc;
-use glint_core::render::{RenderError, render};
+use glint_core::desc::{AdaptiveDesc, FilterKind, SamplePattern, SceneDesc};
+use glint_core::film::Image;
+use glint_core::film::Transfer;
+use glint_core::render::{RenderError, render_progressive};
 use glint_core::scene::compile;
 use glint_scene::image_out::{OutputFormat, write_image};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -49,12 +51,67 @@ struct RenderArgs {
     /// Maximum recursion depth of reflected and refracted rays (overrides the scene).
     #[arg(long)]
     max_depth: Option<u32>,
+    /// Where samples go inside each pixel (overrides the scene).
+    #[arg(long, value_enum)]
+    pattern: Option<PatternArg>,
+    /// Reconstruction filter that weighs samples into pixels (overrides the scene).
+    #[arg(long, value_enum)]
+    filter: Option<FilterArg>,
+    /// Filter radius in pixels (overrides the scene; box 0.5 = each pixel's own samples).
+    #[arg(long)]
+    filter_radius: Option<f32>,
+    /// Adaptive sampling as MIN,MAX,THRESHOLD: start with MIN samples per pixel and double
+    /// up to MAX while the standard error of the pixel exceeds THRESHOLD (e.g. 4,64,0.01).
+    #[arg(long, value_parser = parse_adaptive)]
+    adaptive: Option<AdaptiveDesc>,
+    /// Seed of every random choice (jitter, lens, area light samples).
+    #[arg(long)]
+    seed: Option<u32>,
+    /// Also write the number of samples each pixel took, as a greyscale image (white =
+    /// the most), to see where adaptive sampling worked.
+    #[arg(long, value_name = "PATH")]
+    aov_samples: Option<PathBuf>,
+    /// Write quick subsampled previews to the output first (one sample per 16×16, 8×8,
+    /// … block), then the full image, so a viewer watching the file sees it refine.
+    #[arg(long)]
+    progressive: bool,
     /// Worker threads; 0 or absent uses every core. The image is identical for any count.
     #[arg(short = 'j', long, default_value_t = 0)]
     threads: usize,
     /// Print no progress bar and no summary.
     #[arg(short, long)]
     quiet: bool,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum PatternArg {
+    /// n×n regular grid (n = --samples; 1 = the pixel centre).
+    Grid,
+    /// The four pixel corners and the centre.
+    Corners,
+    /// n×n strata, one random sample in each.
+    Jittered,
+    /// Owen-scrambled Sobol points (n×n of them).
+    Sobol,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum FilterArg {
+    Box,
+    Tent,
+    Gaussian,
+    Mitchell,
+    Lanczos,
+}
+
+fn parse_adaptive(text: &str) -> Result<AdaptiveDesc, String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let [min, max, threshold] = parts.as_slice() else {
+        return Err(format!("expected MIN,MAX,THRESHOLD such as 4,64,0.01, found '{text}'"));
+    };
+    let whole = |s: &str| s.parse::<u32>().map_err(|_| format!("'{s}' is not a whole number"));
+    let threshold = threshold.parse::<f32>().map_err(|_| format!("'{threshold}' is not a number"))?;
+    Ok(AdaptiveDesc { min_samples: whole(min)?, max_samples: whole(max)?, threshold })
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -122,9 +179,20 @@ fn run_render(args: &RenderArgs) -> Result<(), Failure> {
     let pool = rayon::ThreadPoolBuilder::new().num_threads(args.threads).build()?;
     let bar = progress_bar(args.quiet);
     let start = Instant::now();
+    let transfer = desc.settings.output_transfer;
+    // Previews go to the output as they come; the full image is written below.
+    let mut preview_error = None;
+    let mut on_pass = |image: &Image, block: u32| {
+        if args.progressive && block > 1 && preview_error.is_none() {
+            preview_error = write_image(image, &args.output, format, transfer).err();
+        }
+    };
+    let first_block = if args.progressive { 16 } else { 1 };
     let result = pool.install(|| {
-        render(
+        render_progressive(
             &scene,
+            first_block,
+            &mut on_pass,
             &|done, total| {
                 bar.set_length(total as u64);
                 bar.set_position(done as u64);
@@ -133,15 +201,27 @@ fn run_render(args: &RenderArgs) -> Result<(), Failure> {
         )
     });
     bar.finish_and_clear();
+    if let Some(e) = preview_error {
+        return Err(e.into());
+    }
     let (image, stats) = result.map_err(|RenderError::Cancelled| Failure::Cancelled)?;
     let seconds = start.elapsed().as_secs_f64();
-    write_image(&image, &args.output, format, desc.settings.output_transfer)?;
+    write_image(&image, &args.output, format, transfer)?;
+    if let Some(path) = &args.aov_samples {
+        write_image(
+            &sample_count_image(&image, &stats.samples_per_pixel),
+            path,
+            OutputFormat::Png8,
+            Transfer::Identity,
+        )?;
+    }
     if !args.quiet {
-        let (w, h, n) = (scene.settings.width, scene.settings.height, scene.settings.samples_per_axis);
+        let (w, h) = (scene.settings.width, scene.settings.height);
+        let mean_spp = stats.samples_per_pixel.iter().map(|&c| c as f64).sum::<f64>() / (w as f64 * h as f64);
         eprintln!(
-            "wrote {} ({w}x{h}, {} spp) in {seconds:.2} s on {} threads: {} rays, {:.2} Mrays/s{}",
+            "wrote {} ({w}x{h}, {:.1} spp) in {seconds:.2} s on {} threads: {} rays, {:.2} Mrays/s{}",
             args.output.display(),
-            n * n,
+            mean_spp,
             pool.current_num_threads(),
             stats.rays,
             stats.rays as f64 / seconds / 1e6,
@@ -149,6 +229,13 @@ fn run_render(args: &RenderArgs) -> Result<(), Failure> {
         );
     }
     Ok(())
+}
+
+/// The per-pixel sample counts as a greyscale image, white = the most samples.
+fn sample_count_image(like: &Image, counts: &[u32]) -> Image {
+    let most = counts.iter().copied().max().unwrap_or(1).max(1) as f32;
+    let pixels = counts.iter().map(|&c| glint_core::math::Vec3::splat(c as f32 / most)).collect();
+    Image { pixels, ..*like }
 }
 
 fn load(path: Option<&Path>) -> Result<SceneDesc, Failure> {
@@ -170,6 +257,26 @@ fn apply_overrides(desc: &mut SceneDesc, args: &RenderArgs) {
     s.height = args.height.unwrap_or(s.height);
     s.samples_per_axis = args.samples.unwrap_or(s.samples_per_axis);
     s.max_depth = args.max_depth.unwrap_or(s.max_depth);
+    s.seed = args.seed.unwrap_or(s.seed);
+    s.adaptive = args.adaptive.or(s.adaptive);
+    s.filter.radius = args.filter_radius.unwrap_or(s.filter.radius);
+    if let Some(pattern) = args.pattern {
+        s.pattern = match pattern {
+            PatternArg::Grid => SamplePattern::Grid,
+            PatternArg::Corners => SamplePattern::CornersAndCentre,
+            PatternArg::Jittered => SamplePattern::Jittered,
+            PatternArg::Sobol => SamplePattern::Sobol,
+        };
+    }
+    if let Some(filter) = args.filter {
+        s.filter.kind = match filter {
+            FilterArg::Box => FilterKind::Box,
+            FilterArg::Tent => FilterKind::Tent,
+            FilterArg::Gaussian => FilterKind::Gaussian,
+            FilterArg::Mitchell => FilterKind::Mitchell,
+            FilterArg::Lanczos => FilterKind::Lanczos,
+        };
+    }
 }
 
 fn progress_bar(quiet: bool) -> ProgressBar {
