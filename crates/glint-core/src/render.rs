@@ -9,6 +9,7 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
+use crate::desc::AdaptiveDesc;
 use crate::film::{FilmTile, Image, linear_to_srgb};
 use crate::integrator::{Counters, TraceContext, whitted};
 use crate::sampling::{PixelSampler, Rng, SamplePattern, hash};
@@ -91,60 +92,109 @@ fn render_tile(scene: &RenderScene, x0: u32, y0: u32) -> TileResult {
     let (fx1, fy1) = ((x1 + halo).min(s.width), (y1 + halo).min(s.height));
     let mut film = FilmTile::new(fx0, fy0, fx1 - fx0, fy1 - fy0);
     let mut counters = Counters::default();
-    let mut samples = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
-    for py in y0..y1 {
-        for px in x0..x1 {
-            samples.push(sample_pixel(scene, px, py, &mut film, &mut counters));
+    let samples = match s.adaptive {
+        None => {
+            let sampler = &s.sampler;
+            for py in y0..y1 {
+                for px in x0..x1 {
+                    for index in 0..sampler.count() {
+                        let (fx, fy, value) = trace_sample(scene, sampler, px, py, index, &mut counters);
+                        film.splat(&s.filter, fx, fy, value);
+                    }
+                }
+            }
+            vec![sampler.count(); ((x1 - x0) * (y1 - y0)) as usize]
         }
-    }
+        Some(adaptive) => adaptive_tile(scene, &adaptive, (x0, y0, x1, y1), &mut film, &mut counters),
+    };
     TileResult { film, x0, y0, width: x1 - x0, samples, counters }
 }
 
-/// Takes every sample of one pixel, splatting each into `film`; returns the count.
-fn sample_pixel(scene: &RenderScene, px: u32, py: u32, film: &mut FilmTile, counters: &mut Counters) -> u32 {
+/// Adaptive sampling of one tile, in two passes. First every pixel takes the minimum
+/// (and so does a one-pixel ring around the tile, traced only to know the neighbours:
+/// those samples belong to other tiles and are not splatted here). Then a pixel goes on,
+/// doubling its samples up to the maximum, while the standard error of its samples is
+/// above the threshold; a pixel whose mean differs from a neighbour's by more than twice
+/// the threshold first takes four times the minimum — an edge can fall between the first
+/// few samples of a pixel, but rarely between those of two neighbours.
+///
+/// Positions are Sobol points: every power-of-two prefix is stratified, so a pixel can
+/// stop after any doubling and still be evenly covered.
+fn adaptive_tile(
+    scene: &RenderScene,
+    adaptive: &AdaptiveDesc,
+    (x0, y0, x1, y1): (u32, u32, u32, u32),
+    film: &mut FilmTile,
+    counters: &mut Counters,
+) -> Vec<u32> {
     let s = &scene.settings;
-    let Some(adaptive) = s.adaptive else {
-        for index in 0..s.sampler.count() {
-            take_sample(scene, &s.sampler, px, py, index, film, counters);
-        }
-        return s.sampler.count();
-    };
-    // Adaptive: Sobol positions, whose every power-of-two prefix is stratified, so the
-    // pixel can stop after any doubling and still be evenly covered.
     let sampler = PixelSampler { pattern: SamplePattern::Sobol, ..s.sampler };
-    let mut spread = Spread::default();
-    let mut target = adaptive.min_samples;
-    loop {
-        while spread.count < target {
-            let value = take_sample(scene, &sampler, px, py, spread.count, film, counters);
-            spread.add(display_luminance(value));
+    let (rx0, ry0) = (x0.saturating_sub(1), y0.saturating_sub(1));
+    let (rx1, ry1) = ((x1 + 1).min(s.width), (y1 + 1).min(s.height));
+    let ring_width = (rx1 - rx0) as usize;
+    let mut spreads = Vec::with_capacity(ring_width * (ry1 - ry0) as usize);
+    for py in ry0..ry1 {
+        for px in rx0..rx1 {
+            let inside = (x0..x1).contains(&px) && (y0..y1).contains(&py);
+            let mut spread = Spread::default();
+            for index in 0..adaptive.min_samples {
+                let (fx, fy, value) = trace_sample(scene, &sampler, px, py, index, counters);
+                if inside {
+                    film.splat(&s.filter, fx, fy, value);
+                }
+                spread.add(display_luminance(value));
+            }
+            spreads.push(spread);
         }
-        if spread.count >= adaptive.max_samples || spread.standard_error() <= adaptive.threshold {
-            return spread.count;
-        }
-        target = (target * 2).min(adaptive.max_samples);
     }
+    let at = |px: u32, py: u32| (py - ry0) as usize * ring_width + (px - rx0) as usize;
+    let mut counts = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
+    for py in y0..y1 {
+        for px in x0..x1 {
+            let mut spread = spreads[at(px, py)].clone();
+            let neighbours = [(px.wrapping_sub(1), py), (px + 1, py), (px, py.wrapping_sub(1)), (px, py + 1)];
+            let contrast = neighbours
+                .iter()
+                .filter(|&&(x, y)| (rx0..rx1).contains(&x) && (ry0..ry1).contains(&y))
+                .map(|&(x, y)| (spreads[at(x, y)].mean - spread.mean).abs() as f32)
+                .fold(0.0, f32::max);
+            let forced = if contrast > 2.0 * adaptive.threshold { 4 * adaptive.min_samples } else { 0 };
+            let mut target = forced.min(adaptive.max_samples);
+            loop {
+                while spread.count < target {
+                    let (fx, fy, value) = trace_sample(scene, &sampler, px, py, spread.count, counters);
+                    film.splat(&s.filter, fx, fy, value);
+                    spread.add(display_luminance(value));
+                }
+                if spread.count >= adaptive.max_samples || spread.standard_error() <= adaptive.threshold {
+                    break;
+                }
+                target = (spread.count * 2).min(adaptive.max_samples);
+            }
+            counts.push(spread.count);
+        }
+    }
+    counts
 }
 
-/// Traces sample `index` of pixel (`px`, `py`) and splats it; returns its value.
-fn take_sample(
+/// Traces sample `index` of pixel (`px`, `py`): returns its film position (pixels) and
+/// its value.
+fn trace_sample(
     scene: &RenderScene,
     sampler: &PixelSampler,
     px: u32,
     py: u32,
     index: u32,
-    film: &mut FilmTile,
     counters: &mut Counters,
-) -> Vec3 {
-    let s = &scene.settings;
+) -> (f32, f32, Vec3) {
     let offset = sampler.offset(px, py, index);
     let (fx, fy) = (px as f32 + offset.x, py as f32 + offset.y);
-    let mut ctx = TraceContext { counters: Counters::default(), rng: Rng::new(hash(&[px, py, index, s.seed])) };
+    let mut ctx =
+        TraceContext { counters: Counters::default(), rng: Rng::new(hash(&[px, py, index, scene.settings.seed])) };
     let lens = Vec2::new(ctx.rng.next_f32(), ctx.rng.next_f32());
     let value = trace_film_point(scene, fx, fy, lens, &mut ctx);
     counters.rays += ctx.counters.rays;
-    film.splat(&s.filter, fx, fy, value);
-    value
+    (fx, fy, value)
 }
 
 /// Radiance through film position (`fx`, `fy`) in pixels (y down). A non-finite result
@@ -166,7 +216,7 @@ fn display_luminance(c: Vec3) -> f32 {
 }
 
 /// Running mean and variance (Welford), for the adaptive stopping rule.
-#[derive(Default)]
+#[derive(Clone, Default)]
 struct Spread {
     count: u32,
     mean: f64,
