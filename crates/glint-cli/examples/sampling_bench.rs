@@ -25,6 +25,7 @@ fn scene() -> SceneDesc {
         |c: Vec3| MaterialDesc { ambient: Some(c), diffuse: Vec3::ZERO, specular: Vec3::ZERO, ..Default::default() };
     let rot = |deg: f32| TransformOp::Rotate { axis: Vec3::new(0.3, 1.0, 0.2), degrees: deg };
     SceneDesc {
+        meshes: vec![],
         settings: RenderSettings {
             width: 320,
             height: 240,

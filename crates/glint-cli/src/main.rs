@@ -27,6 +27,20 @@ struct Cli {
 enum Command {
     /// Render a scene file (or the built-in default scene) to an image.
     Render(RenderArgs),
+    /// Write a scene file of any format as a native .glint file that renders the same image.
+    Convert(ConvertArgs),
+}
+
+#[derive(clap::Args)]
+struct ConvertArgs {
+    /// Scene file to convert: .glint, course XML/JSON or Ray Tracer Challenge YAML, recognised by content.
+    input: PathBuf,
+    /// The .glint file to write; image textures are referenced relative to its folder.
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Print no summary (warnings are still printed).
+    #[arg(short, long)]
+    quiet: bool,
 }
 
 #[derive(clap::Args)]
@@ -130,6 +144,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => run_render(&args),
+        Command::Convert(args) => run_convert(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -236,6 +251,17 @@ fn sample_count_image(like: &Image, counts: &[u32]) -> Image {
     let most = counts.iter().copied().max().unwrap_or(1).max(1) as f32;
     let pixels = counts.iter().map(|&c| glint_core::math::Vec3::splat(c as f32 / most)).collect();
     Image { pixels, ..*like }
+}
+
+fn run_convert(args: &ConvertArgs) -> Result<(), Failure> {
+    let converted = glint_scene::convert::convert(&args.input, &args.output)?;
+    for warning in &converted.warnings {
+        eprintln!("glint: warning: {warning}");
+    }
+    if !args.quiet {
+        eprintln!("wrote {} ({:?} scene from {})", args.output.display(), converted.format, args.input.display());
+    }
+    Ok(())
 }
 
 fn load(path: Option<&Path>) -> Result<SceneDesc, Failure> {

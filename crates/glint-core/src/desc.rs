@@ -8,6 +8,10 @@
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
+mod solid;
+
+pub use solid::{BlobComponentDesc, BlobComponentShape, BlobDesc, ImplicitDesc, SetOp, SolidDesc};
+
 pub use crate::sampling::{FilterKind, SamplePattern};
 
 /// A whole scene: what to render and how.
@@ -20,6 +24,25 @@ pub struct SceneDesc {
     pub textures: Vec<TextureDesc>,
     /// The roots of the transform hierarchy.
     pub objects: Vec<NodeDesc>,
+    /// Triangle meshes, each stored once and placed by [`ShapeDesc::Mesh`] nodes.
+    #[serde(default)]
+    pub meshes: Vec<MeshDesc>,
+}
+
+/// A triangle mesh as flat arrays, in its own object space.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct MeshDesc {
+    pub name: String,
+    /// The file it was read from (empty when built in code), kept so a scene can be
+    /// written back out.
+    pub path: String,
+    pub positions: Vec<Vec3>,
+    /// Per-vertex normals: empty, or one per position.
+    pub normals: Vec<Vec3>,
+    /// Per-vertex texture coordinates: empty, or one per position.
+    pub uvs: Vec<Vec2>,
+    /// Three vertex indices per triangle, counter-clockwise seen from outside.
+    pub indices: Vec<u32>,
 }
 
 /// Image size and the limits of the recursion; every field has a documented default.
@@ -280,6 +303,8 @@ pub enum ShapeDesc {
     Disk,
     /// Ring of major radius 1 around the y axis with tube radius `minor_radius`.
     Torus { minor_radius: f32 },
+    /// The triangle mesh [`SceneDesc::meshes`]`[index]`.
+    Mesh { index: usize },
 }
 
 /// A node of the transform hierarchy.
@@ -298,4 +323,6 @@ pub enum NodeKind {
     Shape { shape: ShapeDesc, material: usize },
     /// Children placed by this node's transform; a reused definition is a group cloned.
     Group(Vec<NodeDesc>),
+    /// CSG, blobs, implicit surfaces, quadrics, superellipsoids: see [`SolidDesc`].
+    Solid(SolidDesc),
 }

@@ -9,8 +9,11 @@ use crate::desc::{AdaptiveDesc, Features, NodeDesc, NodeKind, SceneDesc, ShapeDe
 use crate::light::Light;
 use crate::material::Material;
 use crate::math::{Aabb, Ray, Transform, offset_ray_origin};
+use crate::mesh::Mesh;
 use crate::sampling::{Filter, PixelSampler};
-use crate::shape::{Primitive, Shape, ShapeKind};
+use crate::shape::{Shape, ShapeKind, ShapeTables};
+
+mod solids;
 use crate::texture::Texture;
 
 /// One placed primitive: the shape, where it is (`M` and `M⁻¹`) and what it is made of.
@@ -51,6 +54,11 @@ pub struct RenderScene {
     pub instances: Vec<Instance>,
     pub bounded_count: usize,
     pub bvh: Bvh,
+    /// Triangle meshes, each stored once; instances of kind `Mesh` index into it.
+    pub meshes: Vec<Mesh>,
+    /// Flat records of CSG trees, blobs, implicit surfaces, quadrics and
+    /// superellipsoids; their instances' shapes index into it.
+    pub shape_tables: ShapeTables,
     pub materials: Vec<Material>,
     pub lights: Vec<Light>,
     pub textures: Vec<Texture>,
@@ -65,8 +73,12 @@ pub struct Hit {
     pub t: f32,
     /// The hit point, computed as `M·Q` from the refined object-space point `Q`.
     pub point: Vec3,
-    /// Unit world-space normal `(M⁻¹)ᵀ∇f`, pointing out of the solid.
+    /// Unit world-space normal `(M⁻¹)ᵀ∇f`, pointing out of the solid: the shading
+    /// normal (interpolated on meshes), for lighting.
     pub normal: Vec3,
+    /// Unit normal of the true surface (the triangle's plane on meshes), on the same
+    /// side as `normal`: for offsetting secondary rays and deciding inside/outside.
+    pub geometric_normal: Vec3,
     pub uv: Vec2,
     pub material: u32,
 }
@@ -130,10 +142,23 @@ pub fn compile(desc: &SceneDesc) -> Result<RenderScene, CompileError> {
         return Err(invalid("lights", "light values must be finite and directions non-zero"));
     }
 
+    let meshes: Vec<Mesh> = desc
+        .meshes
+        .iter()
+        .map(|m| Mesh::compile(m).map_err(|e| invalid(&format!("mesh '{}'", m.name), e.to_string())))
+        .collect::<Result<_, _>>()?;
     let mut flat = Vec::new();
+    let mut shape_tables = ShapeTables::default();
     for node in &desc.objects {
-        flatten(node, &Transform::IDENTITY, desc.materials.len(), &mut flat)?;
+        flatten(node, &Transform::IDENTITY, desc.materials.len(), &mut flat, &mut shape_tables)?;
     }
+    if let Some(inst) =
+        flat.iter().find(|i| i.shape.kind == ShapeKind::Mesh && i.shape.mesh_index() as usize >= meshes.len())
+    {
+        let message = format!("mesh index {} out of range ({} meshes)", inst.shape.mesh_index(), meshes.len());
+        return Err(invalid("mesh instance", message));
+    }
+    let world_bounds = |inst: &Instance| instance_bounds(inst, &meshes, &shape_tables);
     let (bounded, unbounded): (Vec<_>, Vec<_>) = flat.into_iter().partition(|inst| world_bounds(inst).is_finite());
     let boxes: Vec<Aabb> = bounded.iter().map(world_bounds).collect();
     let (bvh, order) = Bvh::build(&boxes);
@@ -148,6 +173,8 @@ pub fn compile(desc: &SceneDesc) -> Result<RenderScene, CompileError> {
         instances,
         bounded_count,
         bvh,
+        meshes,
+        shape_tables,
         materials,
         lights,
         textures,
@@ -240,6 +267,7 @@ fn flatten(
     parent: &Transform,
     material_count: usize,
     out: &mut Vec<Instance>,
+    tables: &mut ShapeTables,
 ) -> Result<(), CompileError> {
     let transform = node_transform(&node.transform, &node.origin)?.then(parent);
     if !(transform.world_from_object.is_finite() && transform.object_from_world.is_finite()) {
@@ -248,38 +276,50 @@ fn flatten(
     match &node.kind {
         NodeKind::Group(children) => {
             for child in children {
-                flatten(child, &transform, material_count, out)?;
+                flatten(child, &transform, material_count, out, tables)?;
             }
         }
         NodeKind::Shape { shape, material } => {
             if *material >= material_count {
                 return Err(invalid(&node.origin, format!("material index {material} out of range")));
             }
-            let shape = match *shape {
-                ShapeDesc::Sphere => Shape::new(ShapeKind::Sphere),
-                ShapeDesc::Cube => Shape::new(ShapeKind::Cube),
-                ShapeDesc::Cylinder => Shape::new(ShapeKind::Cylinder),
-                ShapeDesc::Cone => Shape::new(ShapeKind::Cone),
-                ShapeDesc::Plane => Shape::new(ShapeKind::Plane),
-                ShapeDesc::Disk => Shape::new(ShapeKind::Disk),
-                ShapeDesc::Torus { minor_radius } => {
-                    if !(minor_radius > 0.0 && minor_radius < 1.0) {
-                        return Err(invalid(
-                            &node.origin,
-                            format!("torus minor radius {minor_radius} must be in (0, 1)"),
-                        ));
-                    }
-                    Shape::torus(minor_radius)
-                }
-            };
+            let shape = shape_record(shape, &node.origin)?;
             out.push(Instance { transform, shape, material: *material as u32, _pad: 0 });
+        }
+        NodeKind::Solid(solid) => {
+            // An empty solid (disjoint intersection) places nothing.
+            if let Some((shape, material)) = solids::compile_solid(solid, &node.origin, material_count, tables)? {
+                out.push(Instance { transform, shape, material, _pad: 0 });
+            }
         }
     }
     Ok(())
 }
 
-fn world_bounds(inst: &Instance) -> Aabb {
-    let b = inst.shape.bounds();
+/// The record of a canonical primitive, its parameters validated.
+fn shape_record(shape: &ShapeDesc, origin: &str) -> Result<Shape, CompileError> {
+    Ok(match *shape {
+        ShapeDesc::Sphere => Shape::new(ShapeKind::Sphere),
+        ShapeDesc::Cube => Shape::new(ShapeKind::Cube),
+        ShapeDesc::Cylinder => Shape::new(ShapeKind::Cylinder),
+        ShapeDesc::Cone => Shape::new(ShapeKind::Cone),
+        ShapeDesc::Plane => Shape::new(ShapeKind::Plane),
+        ShapeDesc::Disk => Shape::new(ShapeKind::Disk),
+        ShapeDesc::Torus { minor_radius } => {
+            if !(minor_radius > 0.0 && minor_radius < 1.0) {
+                return Err(invalid(origin, format!("torus minor radius {minor_radius} must be in (0, 1)")));
+            }
+            Shape::torus(minor_radius)
+        }
+        ShapeDesc::Mesh { index } => Shape::mesh(u32::try_from(index).unwrap_or(u32::MAX)),
+    })
+}
+
+fn instance_bounds(inst: &Instance, meshes: &[Mesh], tables: &ShapeTables) -> Aabb {
+    let b = match inst.shape.kind {
+        ShapeKind::Mesh => meshes[inst.shape.mesh_index() as usize].bounds(),
+        _ => inst.shape.bounds_with(tables),
+    };
     if !b.is_finite() {
         return Aabb::new(Vec3::NEG_INFINITY, Vec3::INFINITY);
     }
@@ -294,7 +334,7 @@ impl RenderScene {
         let mut test = |index: u32, t_max: &mut f32| {
             let inst = &self.instances[index as usize];
             let local = inst.transform.ray_to_object(ray);
-            if let Some(hit) = inst.shape.intersect(&local, *t_max) {
+            if let Some(hit) = self.intersect_shape(inst, &local, *t_max) {
                 *t_max = hit.t;
                 best = Some((index, hit));
             }
@@ -307,13 +347,21 @@ impl RenderScene {
         let (index, hit) = best?;
         let inst = &self.instances[index as usize];
         let local = inst.transform.ray_to_object(ray);
-        let surface = inst.shape.surface(&local, hit);
+        let (surface, geometric) = match inst.shape.kind {
+            ShapeKind::Mesh => self.meshes[inst.shape.mesh_index() as usize].surface(&local, hit),
+            _ => {
+                let surface = inst.shape.surface_with(&self.shape_tables, &local, hit);
+                (surface, surface.normal)
+            }
+        };
+        let normal = inst.transform.normal_to_world(surface.normal).normalize_or(Vec3::Y);
         Some(Hit {
             t: hit.t,
             point: inst.transform.point_to_world(surface.point),
-            normal: inst.transform.normal_to_world(surface.normal).normalize_or(Vec3::Y),
+            normal,
+            geometric_normal: inst.transform.normal_to_world(geometric).normalize_or(normal),
             uv: surface.uv,
-            material: inst.material,
+            material: inst.shape.hit_material(&self.shape_tables, hit).unwrap_or(inst.material),
         })
     }
 
@@ -321,7 +369,11 @@ impl RenderScene {
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         let hits = |index: u32, t_max: &mut f32| {
             let inst = &self.instances[index as usize];
-            inst.shape.intersect(&inst.transform.ray_to_object(ray), *t_max).is_some()
+            let local = inst.transform.ray_to_object(ray);
+            match inst.shape.kind {
+                ShapeKind::Mesh => self.meshes[inst.shape.mesh_index() as usize].occluded(&local, *t_max),
+                _ => inst.shape.intersect_with(&self.shape_tables, &local, *t_max).is_some(),
+            }
         };
         let mut blocked = false;
         self.bvh.traverse(ray, &mut t_max.clone(), |i, t| {
@@ -348,7 +400,8 @@ impl RenderScene {
             if filter.max_element() <= 0.0 {
                 return Vec3::ZERO;
             }
-            let side = if hit.normal.dot(ray.dir) > 0.0 { hit.normal } else { -hit.normal };
+            let ng = hit.geometric_normal;
+            let side = if ng.dot(ray.dir) > 0.0 { ng } else { -ng };
             let origin = offset_ray_origin(hit.point, side);
             // Keep the far end fixed: same direction, parameter measured from the new origin.
             let end = ray.at(t_left);
@@ -356,6 +409,15 @@ impl RenderScene {
             ray.origin = origin;
         }
         Vec3::ZERO
+    }
+
+    /// The closest hit of an object-space ray with an instance's shape or mesh.
+    #[inline]
+    fn intersect_shape(&self, inst: &Instance, local: &Ray, t_max: f32) -> Option<crate::shape::ShapeHit> {
+        match inst.shape.kind {
+            ShapeKind::Mesh => self.meshes[inst.shape.mesh_index() as usize].intersect(local, t_max),
+            _ => inst.shape.intersect_with(&self.shape_tables, local, t_max),
+        }
     }
 
     /// Samples texture `index` at `uv`.

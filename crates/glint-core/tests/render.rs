@@ -21,6 +21,7 @@ fn node(shape: ShapeDesc, material: usize, transform: Vec<TransformOp>) -> NodeD
 /// A 1×1 image looking down −z at a plane z = 0 that faces the camera.
 fn facing_plane(material: MaterialDesc, lights: Vec<LightDesc>, ambient: Vec3, background: Vec3) -> SceneDesc {
     SceneDesc {
+        meshes: vec![],
         settings: RenderSettings { width: 1, height: 1, background, ambient_light: ambient, ..Default::default() },
         camera: CameraDesc {
             eye: Vec3::new(0.0, 0.0, 5.0),
@@ -190,6 +191,7 @@ fn textures_blend_into_the_diffuse_colour() {
 fn sphere_at_scale(material: MaterialDesc, scale: f32, offset: Vec3) -> SceneDesc {
     let background = Vec3::new(0.25, 0.5, 1.0);
     SceneDesc {
+        meshes: vec![],
         settings: RenderSettings {
             width: 48,
             height: 48,
@@ -250,6 +252,7 @@ fn no_shadow_acne_at_any_scale() {
     {
         let m = MaterialDesc { diffuse: Vec3::ONE, ambient: Some(Vec3::ZERO), ..black() };
         let desc = SceneDesc {
+            meshes: vec![],
             settings: RenderSettings { width: 48, height: 48, ambient_light: Vec3::ZERO, ..Default::default() },
             camera: CameraDesc {
                 eye: offset + Vec3::new(0.0, 0.0, 4.0 * scale),
@@ -331,6 +334,7 @@ fn busy_scene() -> SceneDesc {
         .collect();
     objects.push(node(ShapeDesc::Plane, 2, vec![]));
     SceneDesc {
+        meshes: vec![],
         settings: RenderSettings { width: 96, height: 64, samples_per_axis: 2, ..Default::default() },
         camera: CameraDesc {
             eye: Vec3::new(0.0, 4.0, 9.0),

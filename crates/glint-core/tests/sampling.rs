@@ -31,6 +31,7 @@ fn shadow_scene(light_size: f32, occluder: bool) -> SceneDesc {
         objects.push(node(ShapeDesc::Cube, 1, square));
     }
     SceneDesc {
+        meshes: vec![],
         settings: RenderSettings { width: 96, height: 96, ambient_light: Vec3::ZERO, ..Default::default() },
         camera: CameraDesc {
             eye: Vec3::new(0.0, 10.0, 0.0),
@@ -77,6 +78,7 @@ fn penumbra_width_grows_with_light_size() {
 /// A checkered plane face-on at distance 10, with the camera focused at 5.
 fn defocus_scene(aperture: f32) -> SceneDesc {
     SceneDesc {
+        meshes: vec![],
         settings: RenderSettings {
             width: 64,
             height: 64,
@@ -133,6 +135,7 @@ fn in_focus_plane_stays_sharp_with_an_open_aperture() {
 fn edge_scene() -> SceneDesc {
     // A bright disk on a dark flat background: flat everywhere except along its rim.
     SceneDesc {
+        meshes: vec![],
         settings: RenderSettings {
             width: 64,
             height: 64,

@@ -18,6 +18,8 @@ pub enum SceneFormat {
     CourseJson,
     /// "The Ray Tracer Challenge" YAML scenes.
     ChallengeYaml,
+    /// A triangle-mesh file (OBJ, PLY, glTF) shown by a camera fitted to it and two lights.
+    Mesh,
 }
 
 /// A loaded scene and the harmless oddities met on the way (unknown elements that were
@@ -31,6 +33,9 @@ pub struct Loaded {
 
 /// Guesses the format from the first meaningful characters of `text`.
 pub fn detect(text: &str, path: &Path) -> SceneFormat {
+    if crate::mesh::MeshFormat::from_path(path).is_some() {
+        return SceneFormat::Mesh;
+    }
     let body = text.trim_start_matches('\u{feff}');
     let first_line = body
         .lines()
@@ -66,23 +71,32 @@ fn path_ext(path: &Path) -> String {
 ///
 /// A [`SceneError`] naming the file, line and column of the first problem.
 pub fn load_any(path: &Path) -> Result<Loaded, SceneError> {
+    // Mesh files may be binary: decided by extension, before reading the file as text.
+    if crate::mesh::MeshFormat::from_path(path).is_some() {
+        let (scene, warnings) = load_mesh_scene(path)?;
+        return Ok(Loaded { scene, format: SceneFormat::Mesh, warnings });
+    }
     let name = path.display().to_string();
     let text = std::fs::read_to_string(path)
         .map_err(|e| SceneError::new(SceneErrorKind::Io, name.clone(), 0, 0, format!("cannot read scene file: {e}")))?;
     let format = detect(&text, path);
     let (scene, warnings) = match format {
         SceneFormat::Native => (crate::native::load_scene(path)?, Vec::new()),
-        other => {
-            return Err(SceneError::new(
-                SceneErrorKind::Invalid,
-                name,
-                0,
-                0,
-                format!("{other:?} scenes are not supported yet"),
-            ));
+        SceneFormat::ChallengeYaml => crate::challenge::parse_challenge(&text, &name)?,
+        SceneFormat::Mesh => load_mesh_scene(path)?,
+        SceneFormat::CourseXml | SceneFormat::CourseJson => {
+            let loaded = crate::course::load_text(path, &text, format, crate::course::CourseOptions::default())?;
+            (loaded.scene, loaded.warnings)
         }
     };
     Ok(Loaded { scene, format, warnings })
+}
+
+/// A mesh file framed by a default camera and two lights.
+fn load_mesh_scene(path: &Path) -> Result<(SceneDesc, Vec<String>), SceneError> {
+    let import = crate::mesh::load_mesh(path)?;
+    let warnings = import.warnings.clone();
+    Ok((crate::mesh::model_scene(import), warnings))
 }
 
 #[cfg(test)]

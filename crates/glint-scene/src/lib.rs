@@ -1,11 +1,15 @@
 //! glint-scene: scene files in and images out, for the glint renderer.
 //!
 //! Every importer produces a [`glint_core::desc::SceneDesc`]; this crate owns the files
-//! (the native `.glint` format and texture images) so that glint-core never touches I/O.
+//! (the native `.glint` format, the CS123/CS1230 course formats and texture images) so that glint-core never touches I/O.
 
+pub mod challenge;
+pub mod convert;
+pub mod course;
 pub mod detect;
 pub mod error;
 pub mod image_out;
+pub mod mesh;
 pub mod native;
 pub mod texture_io;
 

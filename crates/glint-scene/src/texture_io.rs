@@ -3,11 +3,14 @@
 //! Shading adds and scales radiance, which is only meaningful in linear light, while
 //! PNG and JPEG files store sRGB-encoded values; so texels are decoded through the sRGB
 //! transfer function (IEC 61966-2-1) once, here, and never again while rendering.
+//! Scenes made for display-referred renderers (the course formats, which shade the
+//! stored 0–255 values directly) load their textures with [`Transfer::Identity`]
+//! through [`load_texture_encoded`] instead.
 
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
-use glint_core::desc::TextureDesc;
+use glint_core::desc::{TextureDesc, Transfer};
 use image::{DynamicImage, ImageFormat, ImageReader, Limits};
 
 /// Largest texture side accepted, in pixels; bigger files are almost surely a mistake
@@ -73,6 +76,17 @@ pub fn srgb_to_linear(encoded: f32) -> f32 {
 /// A [`TextureError`] naming `path` when the file cannot be read, is not PNG or JPEG, is
 /// larger than [`MAX_TEXTURE_SIDE`] on a side, or does not decode.
 pub fn load_texture(name: &str, path: &Path) -> Result<TextureDesc, TextureError> {
+    load_texture_encoded(name, path, Transfer::Srgb)
+}
+
+/// Loads a PNG or JPEG file whose stored values are encoded by `transfer`: with
+/// [`Transfer::Srgb`] (what [`load_texture`] does) texels are decoded to linear light;
+/// with [`Transfer::Identity`] the stored values, scaled to [0, 1], are used as they are.
+///
+/// # Errors
+///
+/// As [`load_texture`].
+pub fn load_texture_encoded(name: &str, path: &Path, transfer: Transfer) -> Result<TextureDesc, TextureError> {
     let open = || {
         ImageReader::open(path)
             .and_then(ImageReader::with_guessed_format)
@@ -105,12 +119,17 @@ pub fn load_texture(name: &str, path: &Path) -> Result<TextureDesc, TextureError
         path: path.display().to_string(),
         width: image.width(),
         height: image.height(),
-        texels: linear_texels(&image),
+        texels: decoded_texels(&image, transfer),
     })
 }
 
-/// Decodes every pixel to linear RGB, rows top to bottom as the file stores them.
-fn linear_texels(image: &DynamicImage) -> Vec<Vec3> {
+/// Decodes every pixel through the inverse of `transfer`, rows top to bottom as the
+/// file stores them.
+fn decoded_texels(image: &DynamicImage, transfer: Transfer) -> Vec<Vec3> {
+    let decode_unit: fn(f32) -> f32 = match transfer {
+        Transfer::Srgb => srgb_to_linear,
+        Transfer::Identity => |c| c,
+    };
     let sixteen_bit = matches!(
         image,
         DynamicImage::ImageLuma16(_)
@@ -120,11 +139,11 @@ fn linear_texels(image: &DynamicImage) -> Vec<Vec3> {
     );
     if sixteen_bit {
         let scale = 1.0 / f32::from(u16::MAX);
-        let decode = |c: u16| srgb_to_linear(f32::from(c) * scale);
+        let decode = |c: u16| decode_unit(f32::from(c) * scale);
         image.to_rgb16().pixels().map(|p| Vec3::new(decode(p[0]), decode(p[1]), decode(p[2]))).collect()
     } else {
         // 256 possible values: decode each once.
-        let table: Vec<f32> = (0..=255u8).map(|c| srgb_to_linear(f32::from(c) / 255.0)).collect();
+        let table: Vec<f32> = (0..=255u8).map(|c| decode_unit(f32::from(c) / 255.0)).collect();
         image
             .to_rgb8()
             .pixels()
@@ -147,5 +166,24 @@ mod tests {
         let below = srgb_to_linear(0.04045);
         let above = srgb_to_linear(0.040_451);
         assert!((below - above).abs() < 1e-6);
+    }
+
+    #[test]
+    fn identity_transfer_keeps_the_stored_values() {
+        let dir = std::env::temp_dir().join(format!("glint-texture-io-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("two.png");
+        image::RgbImage::from_raw(2, 1, vec![128, 0, 255, 64, 32, 16]).unwrap().save(&path).unwrap();
+        let texels = |transfer| match load_texture_encoded("t", &path, transfer).unwrap() {
+            TextureDesc::Image { texels, width: 2, height: 1, .. } => texels,
+            other => panic!("{other:?}"),
+        };
+        let stored = texels(Transfer::Identity);
+        assert_eq!(stored[0], Vec3::new(128.0 / 255.0, 0.0, 1.0));
+        assert_eq!(stored[1], Vec3::new(64.0, 32.0, 16.0) / 255.0);
+        let linear = texels(Transfer::Srgb);
+        assert!((linear[0].x - srgb_to_linear(128.0 / 255.0)).abs() < 1e-6);
+        assert!(linear[1].x < stored[1].x);
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -19,6 +19,7 @@ fn shape_of(node: &NodeDesc) -> (ShapeDesc, usize) {
     match &node.kind {
         NodeKind::Shape { shape, material } => (*shape, *material),
         NodeKind::Group(_) => panic!("expected a shape, found a group at {}", node.origin),
+        NodeKind::Solid(_) => panic!("expected a shape, found a solid at {}", node.origin),
     }
 }
 
@@ -27,6 +28,7 @@ fn children_of(node: &NodeDesc) -> &[NodeDesc] {
     match &node.kind {
         NodeKind::Group(children) => children,
         NodeKind::Shape { .. } => panic!("expected a group, found a shape at {}", node.origin),
+        NodeKind::Solid(_) => panic!("expected a group, found a solid at {}", node.origin),
     }
 }
 
@@ -429,7 +431,7 @@ fn the_default_scene_is_a_whitted_composition() {
         .iter()
         .filter_map(|n| match n.kind {
             NodeKind::Shape { shape, .. } => Some(shape),
-            NodeKind::Group(_) => None,
+            NodeKind::Group(_) | NodeKind::Solid(_) => None,
         })
         .collect();
     for wanted in [ShapeDesc::Plane, ShapeDesc::Cylinder, ShapeDesc::Cone, ShapeDesc::Cube] {

@@ -7,8 +7,10 @@ use glam::Vec3;
 
 use crate::math::{Aabb, Ray};
 
-/// One node, 32 bytes, in depth-first order: an interior node's first child follows it
-/// directly and `index` is its second child; a leaf's `index` is its first primitive.
+/// One node, 32 bytes. An interior node's two children are stored side by side at
+/// `index` and `index + 1` (one 64-byte fetch tests both); a leaf's `index` is its first
+/// primitive. Node 0 is the root and node 1 is unused, so sibling pairs start at even
+/// indices.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct BvhNode {
@@ -56,7 +58,8 @@ impl Bvh {
             .collect();
         let mut nodes = Vec::with_capacity(2 * bounds.len().max(1));
         if !items.is_empty() {
-            build_node(&mut items, 0, 0, &mut nodes);
+            nodes.resize(2, BvhNode::zeroed());
+            build_node(&mut items, 0, 0, &mut nodes, 0);
         }
         (Bvh { nodes }, items.iter().map(|it| it.index).collect())
     }
@@ -70,7 +73,12 @@ impl Bvh {
             return;
         }
         let inv_dir = ray.dir.recip();
-        let mut stack = [0u32; 64];
+        if self.nodes[0].bounds().hit_interval(ray, inv_dir, *t_max).is_none() {
+            return;
+        }
+        // Each entry keeps the distance at which the ray enters the node, so a pop can
+        // skip a node that a closer hit has since ruled out without testing its box again.
+        let mut stack = [(0u32, 0.0f32); 64];
         let mut top = 0;
         let mut node = 0usize;
         loop {
@@ -82,13 +90,13 @@ impl Bvh {
                     }
                 }
             } else {
-                let (a, b) = (node + 1, n.index as usize);
+                let (a, b) = (n.index as usize, n.index as usize + 1);
                 let hit_a = self.nodes[a].bounds().hit_interval(ray, inv_dir, *t_max);
                 let hit_b = self.nodes[b].bounds().hit_interval(ray, inv_dir, *t_max);
                 match (hit_a, hit_b) {
                     (Some((ta, _)), Some((tb, _))) => {
-                        let (near, far) = if ta <= tb { (a, b) } else { (b, a) };
-                        stack[top] = far as u32;
+                        let (near, far, t_far) = if ta <= tb { (a, b, tb) } else { (b, a, ta) };
+                        stack[top] = (far as u32, t_far);
                         top += 1;
                         node = near;
                         continue;
@@ -110,9 +118,9 @@ impl Bvh {
                     return;
                 }
                 top -= 1;
-                let candidate = stack[top] as usize;
-                if self.nodes[candidate].bounds().hit_interval(ray, inv_dir, *t_max).is_some() {
-                    node = candidate;
+                let (candidate, t_enter) = stack[top];
+                if t_enter <= *t_max {
+                    node = candidate as usize;
                     break;
                 }
             }
@@ -125,23 +133,23 @@ impl Bvh {
     }
 }
 
-/// Builds the subtree over `items` (whose first element is primitive `first`) and
-/// returns its node index.
-fn build_node(items: &mut [BuildItem], first: u32, depth: usize, nodes: &mut Vec<BvhNode>) -> usize {
+/// Builds the subtree over `items` (whose first element is primitive `first`) into the
+/// already reserved node `me`.
+fn build_node(items: &mut [BuildItem], first: u32, depth: usize, nodes: &mut Vec<BvhNode>, me: usize) {
     let bounds = items.iter().fold(Aabb::EMPTY, |b, it| b.union(it.bounds));
-    let me = nodes.len();
-    nodes.push(BvhNode { min: bounds.min, index: first, max: bounds.max, count: items.len() as u32 });
+    nodes[me] = BvhNode { min: bounds.min, index: first, max: bounds.max, count: items.len() as u32 };
     if items.len() <= 2 || depth >= MAX_DEPTH {
-        return me;
+        return;
     }
     let Some(mid) = sah_partition(items, &bounds) else {
-        return me;
+        return;
     };
-    build_node(&mut items[..mid], first, depth + 1, nodes);
-    let second = build_node(&mut items[mid..], first + mid as u32, depth + 1, nodes);
-    nodes[me].index = second as u32;
+    let children = nodes.len();
+    nodes.resize(children + 2, BvhNode::zeroed());
+    build_node(&mut items[..mid], first, depth + 1, nodes, children);
+    build_node(&mut items[mid..], first + mid as u32, depth + 1, nodes, children + 1);
+    nodes[me].index = children as u32;
     nodes[me].count = 0;
-    me
 }
 
 /// Partitions `items` at the cheapest binned SAH split, or `None` when a leaf is

@@ -24,9 +24,10 @@ pub fn radiance(scene: &RenderScene, ray: &Ray, depth: u32, weight: Vec3, ctx: &
     };
     let material = &scene.materials[hit.material as usize];
     let d = ray.dir.normalize();
-    // Shade the side the ray arrived on: n faces the viewer.
-    let entering = hit.normal.dot(d) < 0.0;
-    let n = if entering { hit.normal } else { -hit.normal };
+    // Shade the side the ray arrived on: n faces the viewer. The true surface (ng)
+    // decides the side and carries the ray offsets; an interpolated mesh normal may lean.
+    let entering = hit.geometric_normal.dot(d) < 0.0;
+    let (n, ng) = if entering { (hit.normal, hit.geometric_normal) } else { (-hit.normal, -hit.geometric_normal) };
     let mut color = direct_lighting(scene, &hit, material, n, -d, ctx);
 
     if depth >= scene.settings.max_depth {
@@ -37,7 +38,7 @@ pub fn radiance(scene: &RenderScene, ray: &Ray, depth: u32, weight: Vec3, ctx: &
     let features = scene.settings.features;
     let reflect_weight = weight * material.reflective;
     if features.reflections && worth_tracing(reflect_weight) {
-        let r = Ray::new(offset_ray_origin(hit.point, n), reflected_dir);
+        let r = Ray::new(offset_ray_origin(hit.point, ng), reflected_dir);
         color += material.reflective * radiance(scene, &r, depth + 1, reflect_weight, ctx);
     }
     let transmit_weight = weight * material.transmissive;
@@ -45,9 +46,9 @@ pub fn radiance(scene: &RenderScene, ray: &Ray, depth: u32, weight: Vec3, ctx: &
         let eta = if entering { 1.0 / material.ior } else { material.ior };
         let transmitted = if material.ior == 1.0 { Some(d) } else { refract(d, n, eta) };
         let r = match transmitted {
-            Some(t) => Ray::new(offset_ray_origin(hit.point, -n), t),
+            Some(t) => Ray::new(offset_ray_origin(hit.point, -ng), t),
             // Total internal reflection: the transmitted share is reflected instead.
-            None => Ray::new(offset_ray_origin(hit.point, n), reflected_dir),
+            None => Ray::new(offset_ray_origin(hit.point, ng), reflected_dir),
         };
         color += material.transmissive * radiance(scene, &r, depth + 1, transmit_weight, ctx);
     }
@@ -61,7 +62,8 @@ fn direct_lighting(scene: &RenderScene, hit: &Hit, m: &Material, n: Vec3, v: Vec
         (features.textures && m.texture != NO_TEXTURE).then(|| scene.texture(m.texture, hit.uv * m.texture_repeat));
     let diffuse = m.diffuse_with(texel);
     let mut color = scene.settings.ambient_light * m.ambient;
-    let shadow_origin = offset_ray_origin(hit.point, n);
+    let ng = if hit.geometric_normal.dot(n) < 0.0 { -hit.geometric_normal } else { hit.geometric_normal };
+    let shadow_origin = offset_ray_origin(hit.point, ng);
     for light in &scene.lights {
         // An area light is the sum of its stratified samples; the others have one.
         for index in 0..light.sample_count() {

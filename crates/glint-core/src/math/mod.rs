@@ -2,6 +2,7 @@
 
 mod aabb;
 mod offset;
+pub mod polynomial;
 mod ray;
 pub mod roots;
 mod transform;

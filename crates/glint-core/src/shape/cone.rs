@@ -1,7 +1,8 @@
 use glam::{Vec2, Vec3};
 
-use super::cylinder::cap_surface;
-use super::{Primitive, ShapeHit, SurfacePoint, azimuth_u, nearest_root, rebase};
+use super::cylinder::{cap_surface, clip, slab_span};
+use super::span::{LocalRay, quadratic_spans};
+use super::{Primitive, ShapeHit, Solid, Span, SurfacePoint, azimuth_u, nearest_root, rebase};
 use crate::math::roots::solve_quadratic;
 use crate::math::{Aabb, Ray};
 
@@ -55,5 +56,35 @@ impl Primitive for Cone {
 
     fn bounds(&self) -> Aabb {
         Aabb::new(Vec3::splat(-1.0), Vec3::ONE)
+    }
+}
+
+impl Solid for Cone {
+    fn spans(&self, ray: &Ray, out: &mut Vec<Span>) {
+        // The double cone x² + z² ≤ ((1 − y)/2)² meets the slab −1 ≤ y ≤ 1 only in its
+        // lower nappe (the upper one touches it at the apex alone), so the finite cone is
+        // the double cone's spans clipped to the slab.
+        let Some(slab) = slab_span(ray) else { return };
+        let local = LocalRay::new(ray, glam::Vec3::ZERO);
+        let (o, d) = (local.origin, local.dir);
+        let (oy, dy) = (1.0 - o.y, -d.y);
+        let a = d.x * d.x + d.z * d.z - 0.25 * dy * dy;
+        let b = 2.0 * (o.x * d.x + o.z * d.z - 0.25 * oy * dy);
+        let c = o.x * o.x + o.z * o.z - 0.25 * oy * oy;
+        let (body, n) = quadratic_spans(a, b, c, BODY);
+        for mut s in body.into_iter().take(n) {
+            s.enter.t = (local.t0 + s.enter.t as f64) as f32;
+            s.exit.t = (local.t0 + s.exit.t as f64) as f32;
+            clip(&mut s, slab);
+            if s.enter.t < s.exit.t {
+                // The slab's lower end is the base cap; its upper end can only be the apex.
+                for end in [&mut s.enter, &mut s.exit] {
+                    if end.part != BODY && end.part != BASE {
+                        end.part = BODY;
+                    }
+                }
+                out.push(s);
+            }
+        }
     }
 }

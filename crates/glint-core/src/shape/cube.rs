@@ -1,6 +1,7 @@
 use glam::{Vec2, Vec3};
 
-use super::{Primitive, ShapeHit, SurfacePoint};
+use super::span::{BOX_FACE, box_span};
+use super::{Primitive, ShapeHit, Solid, Span, SurfacePoint};
 use crate::math::{Aabb, Ray};
 
 /// The cube [−1, 1]³: six planes `x = ±1`, `y = ±1`, `z = ±1` bounded by the others.
@@ -56,6 +57,17 @@ impl Primitive for Cube {
 
     fn bounds(&self) -> Aabb {
         Aabb::new(Vec3::splat(-1.0), Vec3::ONE)
+    }
+}
+
+impl Solid for Cube {
+    fn spans(&self, ray: &Ray, out: &mut Vec<Span>) {
+        if let Some(mut s) = box_span(ray, Vec3::splat(-1.0), Vec3::ONE) {
+            // The cube numbers its faces like the box helper, without the offset.
+            s.enter.part -= BOX_FACE;
+            s.exit.part -= BOX_FACE;
+            out.push(s);
+        }
     }
 }
 

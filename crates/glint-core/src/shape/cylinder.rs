@@ -1,6 +1,7 @@
 use glam::{Vec2, Vec3};
 
-use super::{Primitive, ShapeHit, SurfacePoint, azimuth_u, disk_uv, nearest_root};
+use super::span::quadratic_spans;
+use super::{Primitive, ShapeHit, Solid, Span, SurfacePoint, azimuth_u, disk_uv, nearest_root};
 use crate::math::{Aabb, Ray};
 
 const BODY: u32 = 0;
@@ -62,6 +63,50 @@ impl Primitive for Cylinder {
 
     fn bounds(&self) -> Aabb {
         Aabb::new(Vec3::splat(-1.0), Vec3::ONE)
+    }
+}
+
+impl Solid for Cylinder {
+    fn spans(&self, ray: &Ray, out: &mut Vec<Span>) {
+        // The convex solid is (infinite cylinder x² + z² ≤ 1) ∩ (slab −1 ≤ y ≤ 1): the
+        // intersection of two intervals, so no rim needs a tolerance.
+        let (o, d) = (ray.origin.as_dvec3(), ray.dir.as_dvec3());
+        let a = d.x * d.x + d.z * d.z;
+        let t0 = if a > 0.0 { -(o.x * d.x + o.z * d.z) / a } else { 0.0 };
+        let (cx, cz) = (o.x + t0 * d.x, o.z + t0 * d.z);
+        let (body, n) = quadratic_spans(a, 0.0, cx * cx + cz * cz - 1.0, BODY);
+        if n == 0 {
+            return;
+        }
+        let mut s = body[0];
+        s.enter.t += t0 as f32;
+        s.exit.t += t0 as f32;
+        if let Some(slab) = slab_span(ray) {
+            clip(&mut s, slab);
+            if s.enter.t < s.exit.t {
+                out.push(s);
+            }
+        }
+    }
+}
+
+/// The span of the slab `−1 ≤ y ≤ 1`, its ends labelled as caps.
+pub(super) fn slab_span(ray: &Ray) -> Option<Span> {
+    let (o, d) = (ray.origin.y, ray.dir.y);
+    if d == 0.0 {
+        return (o.abs() <= 1.0).then_some(Span::ALL);
+    }
+    let (t_top, t_bottom) = ((1.0 - o) / d, (-1.0 - o) / d);
+    Some(if d > 0.0 { Span::new(t_bottom, BOTTOM, t_top, TOP) } else { Span::new(t_top, TOP, t_bottom, BOTTOM) })
+}
+
+/// Narrows `s` to `clip`; ends cut off take `clip`'s labels.
+pub(super) fn clip(s: &mut Span, clip: Span) {
+    if clip.enter.t > s.enter.t {
+        s.enter = clip.enter;
+    }
+    if clip.exit.t < s.exit.t {
+        s.exit = clip.exit;
     }
 }
 

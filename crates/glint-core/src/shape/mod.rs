@@ -6,12 +6,19 @@
 //! [`Shape`] is the closed set of them as plain data, dispatched by `match` so the same
 //! record serves the CPU and, uploaded as is, the GPU.
 
+pub mod blob;
 mod cone;
+pub mod csg;
 mod cube;
 mod cylinder;
 mod disk;
+pub mod implicit;
 mod plane;
+pub mod quadric;
+mod span;
 mod sphere;
+pub mod superellipsoid;
+mod tables;
 mod torus;
 
 pub use cone::Cone;
@@ -21,6 +28,14 @@ pub use disk::Disk;
 pub use plane::Plane;
 pub use sphere::Sphere;
 pub use torus::Torus;
+
+pub use blob::{Blob, BlobComponent, BlobShape};
+pub use csg::{CsgNode, CsgOp, CsgShape};
+pub use implicit::{Implicit, ImplicitOp, ImplicitShape};
+pub use quadric::Quadric;
+pub use span::{Solid, Span, first_crossing};
+pub use superellipsoid::Superellipsoid;
+pub use tables::{ShapeTables, placed_bounds};
 
 use bytemuck::NoUninit;
 use glam::{Vec2, Vec3};
@@ -69,6 +84,15 @@ pub enum ShapeKind {
     Plane = 4,
     Disk = 5,
     Torus = 6,
+    /// A triangle mesh of [`crate::scene::RenderScene::meshes`]; `param` holds its index.
+    Mesh = 7,
+    /// The kinds below keep their data in [`ShapeTables`]; `param`'s bits hold the index
+    /// (see [`Shape::indexed`]). A CSG tree, by the index of its root node.
+    Csg = 8,
+    Blob = 9,
+    Implicit = 10,
+    Quadric = 11,
+    Superellipsoid = 12,
 }
 
 /// A primitive as flat data: its kind and its one shape parameter (the torus's tube
@@ -87,6 +111,27 @@ impl Shape {
 
     pub const fn torus(minor_radius: f32) -> Self {
         Self { kind: ShapeKind::Torus, param: minor_radius }
+    }
+
+    /// An instance of mesh `index`; the index travels in `param`'s bits so the record
+    /// stays two words for every kind.
+    pub const fn mesh(index: u32) -> Self {
+        Self { kind: ShapeKind::Mesh, param: f32::from_bits(index) }
+    }
+
+    /// The mesh index of a [`ShapeKind::Mesh`] record.
+    pub const fn mesh_index(&self) -> u32 {
+        self.param.to_bits()
+    }
+
+    /// A record of a kind whose data lives in [`ShapeTables`], at `index` of its table.
+    pub const fn indexed(kind: ShapeKind, index: u32) -> Self {
+        Self { kind, param: f32::from_bits(index) }
+    }
+
+    /// The table index of a record made by [`Shape::indexed`].
+    pub const fn index(&self) -> u32 {
+        self.param.to_bits()
     }
 }
 
@@ -119,6 +164,14 @@ macro_rules! dispatch {
             }
             ShapeKind::Torus => {
                 let $prim = Torus { minor_radius: $shape.param };
+                $body
+            }
+            ShapeKind::Mesh => {
+                let $prim = crate::mesh::MeshRef;
+                $body
+            }
+            ShapeKind::Csg | ShapeKind::Blob | ShapeKind::Implicit | ShapeKind::Quadric | ShapeKind::Superellipsoid => {
+                let $prim = tables::NeedsTables;
                 $body
             }
         }

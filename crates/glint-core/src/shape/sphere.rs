@@ -1,6 +1,6 @@
 use glam::{Vec2, Vec3};
 
-use super::{Primitive, ShapeHit, SurfacePoint, azimuth_u, nearest_root, rebase};
+use super::{Primitive, ShapeHit, Solid, Span, SurfacePoint, azimuth_u, nearest_root, rebase};
 use crate::math::{Aabb, Ray};
 
 /// The unit sphere `f(x, y, z) = x² + y² + z² − 1`.
@@ -30,5 +30,17 @@ impl Primitive for Sphere {
 
     fn bounds(&self) -> Aabb {
         Aabb::new(Vec3::splat(-1.0), Vec3::ONE)
+    }
+}
+
+impl Solid for Sphere {
+    fn spans(&self, ray: &Ray, out: &mut Vec<Span>) {
+        let (t0, near) = rebase(ray);
+        let discriminant = 1.0 - near.origin.length_squared();
+        let half_chord = (discriminant / ray.dir.length_squared()).sqrt();
+        // A tangent line (zero chord) touches without entering.
+        if half_chord > 0.0 {
+            out.push(Span::new(t0 - half_chord, 0, t0 + half_chord, 0));
+        }
     }
 }

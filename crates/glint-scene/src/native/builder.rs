@@ -24,9 +24,32 @@ const MAX_INCLUDE_DEPTH: usize = 32;
 pub const MAX_NODES: usize = 1_000_000;
 
 /// Node names allowed at the top level of a file, for the "expected one of" message.
-const TOP_LEVEL: [&str; 16] = [
-    "settings", "camera", "texture", "material", "light", "define", "use", "include", "group", "sphere", "cube",
-    "cylinder", "cone", "plane", "disk", "torus",
+const TOP_LEVEL: [&str; 25] = [
+    "settings",
+    "camera",
+    "texture",
+    "material",
+    "light",
+    "define",
+    "use",
+    "include",
+    "group",
+    "sphere",
+    "cube",
+    "cylinder",
+    "cone",
+    "plane",
+    "disk",
+    "torus",
+    "mesh",
+    "mesh_instance",
+    "union",
+    "intersection",
+    "difference",
+    "blob",
+    "implicit",
+    "quadric",
+    "superellipsoid",
 ];
 
 /// The file a node came from: its name for messages and its folder for relative paths.
@@ -120,8 +143,12 @@ pub struct Builder {
     pub define_names: Registry,
     /// The bodies of `define`s.
     pub definitions: Vec<Definition>,
+    /// `mesh` names → index into `desc.meshes`.
+    pub mesh_names: Registry,
     /// Index of the built-in default material once an object has needed it.
     pub default_material: Option<usize>,
+    /// The `material` of the CSG node being built, which its children without one use.
+    pub inherited_material: Option<usize>,
     /// Scene nodes created so far (for [`MAX_NODES`]).
     pub node_count: usize,
     /// Where `settings` and `camera` were given, so a second one is refused.
@@ -192,6 +219,7 @@ impl Builder {
                     self.desc.materials.push(material);
                 }
                 "define" => self.define(src, node)?,
+                "mesh" => self.mesh_definition(src, node)?,
                 "include" => self.include(src, node)?,
                 name if super::objects::is_object(name) => {
                     let object = self.object(src, node)?;
@@ -219,7 +247,7 @@ impl Builder {
 
     /// The node after `light`/`texture` that names its kind and holds its block:
     /// `light point { … }` is a `light` node followed by a `point` node.
-    fn kind_node<'n>(src: &Source, node: &Node, next: Option<&'n Node>, kinds: &[&str]) -> Result<&'n Node> {
+    pub(super) fn kind_node<'n>(src: &Source, node: &Node, next: Option<&'n Node>, kinds: &[&str]) -> Result<&'n Node> {
         let expected = kinds.join(", ");
         if let Some(block) = &node.block {
             return Err(src.invalid(

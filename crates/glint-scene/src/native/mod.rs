@@ -9,9 +9,12 @@ mod builder;
 pub mod lexer;
 mod lights;
 mod materials;
+mod meshes;
 mod objects;
 mod settings;
+mod solids;
 pub mod tree;
+pub mod writer;
 
 use std::path::Path;
 

@@ -5,20 +5,21 @@ use glint_core::desc::{NodeDesc, NodeKind, ShapeDesc, TransformOp};
 
 use super::args::{self, Result, Seen};
 use super::builder::{Builder, Definition, Source};
+use super::solids::{SOLIDS, is_solid};
 use super::tree::{Node, Value, ValueKind};
 
 /// The primitive node names, in the order the documentation lists them.
 const SHAPES: [&str; 7] = ["sphere", "cube", "cylinder", "cone", "plane", "disk", "torus"];
 
 /// Transform statements, allowed in every object and in `use`.
-const TRANSFORMS: [&str; 4] = ["translate", "rotate", "scale", "matrix"];
+pub const TRANSFORMS: [&str; 4] = ["translate", "rotate", "scale", "matrix"];
 
 /// Default tube radius of a torus whose major radius is 1.
 const TORUS_MINOR_RADIUS: f32 = 0.25;
 
 /// Whether `name` starts an object (a shape, a group or a use).
 pub fn is_object(name: &str) -> bool {
-    SHAPES.contains(&name) || name == "group" || name == "use"
+    SHAPES.contains(&name) || name == "group" || name == "use" || name == "mesh_instance" || is_solid(name)
 }
 
 /// Names allowed inside `group` and `define`: transforms (group only) and objects.
@@ -28,7 +29,8 @@ fn container_allowed(with_transforms: bool) -> Vec<&'static str> {
         allowed.extend(TRANSFORMS);
     }
     allowed.extend(SHAPES);
-    allowed.extend(["group", "use"]);
+    allowed.extend(["group", "use", "mesh_instance"]);
+    allowed.extend(SOLIDS);
     allowed
 }
 
@@ -38,6 +40,8 @@ impl Builder {
         match node.name.as_str() {
             "group" => self.group(src, node),
             "use" => self.use_definition(src, node),
+            "mesh_instance" => self.mesh_instance(src, node),
+            name if is_solid(name) => self.solid(src, node),
             _ => self.shape(src, node),
         }
     }
@@ -86,7 +90,7 @@ impl Builder {
         };
         let material = match material {
             Some(index) => index,
-            None => self.default_material(src, node.pos())?,
+            None => self.material_or_inherited(src, node.pos())?,
         };
         self.count_nodes(src, node.pos(), 1)?;
         Ok(NodeDesc { transform, kind: NodeKind::Shape { shape, material }, origin: src.origin(node.pos()) })
@@ -163,7 +167,7 @@ impl Builder {
 }
 
 /// Reads `prop` as a transform statement; `None` when it is not one.
-fn transform_op(src: &Source, prop: &Node) -> Result<Option<TransformOp>> {
+pub fn transform_op(src: &Source, prop: &Node) -> Result<Option<TransformOp>> {
     Ok(Some(match prop.name.as_str() {
         "translate" => TransformOp::Translate(args::vec3(src, prop)?),
         "scale" => {

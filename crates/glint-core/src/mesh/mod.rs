@@ -1,0 +1,227 @@
+//! Triangle meshes: flat vertex and index arrays with their own bottom-level BVH.
+//!
+//! A mesh is stored once in [`crate::scene::RenderScene::meshes`] and placed any number
+//! of times by instances whose [`crate::shape::Shape`] names its index (two-level
+//! instancing: the top-level BVH is over instances, each mesh has its own BVH over
+//! triangles in object space). Everything is plain arrays so a GPU backend can upload
+//! them as they are: `BvhNode` is `Pod`, indices are `[u32; 3]`, vertices `Vec3`.
+
+pub mod triangle;
+
+use glam::{Vec2, Vec3};
+
+use crate::accel::Bvh;
+use crate::desc::MeshDesc;
+use crate::math::{Aabb, Ray};
+use crate::shape::{ShapeHit, SurfacePoint};
+pub use triangle::{TriangleHit, WatertightRay};
+
+/// A compiled mesh. `triangles` are in the order the BVH leaves expect.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    pub positions: Vec<Vec3>,
+    /// Per-vertex shading normals, or empty (flat shading with the geometric normal).
+    pub normals: Vec<Vec3>,
+    /// Per-vertex texture coordinates, or empty (the barycentric `(b1, b2)` are used).
+    pub uvs: Vec<Vec2>,
+    pub triangles: Vec<[u32; 3]>,
+    pub bvh: Bvh,
+    /// Triangles dropped at compile time because they have no area.
+    pub degenerate: usize,
+}
+
+/// Why a [`MeshDesc`] cannot be compiled.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum MeshError {
+    #[error("index count {0} is not a multiple of 3")]
+    Ragged(usize),
+    #[error("triangle {triangle} uses vertex {index}, but there are only {count} vertices")]
+    IndexOutOfRange { triangle: usize, index: u32, count: usize },
+    #[error("vertex {0} has a coordinate that is not a finite number")]
+    NonFinite(usize),
+    #[error("{what} has {found} entries, but there are {count} vertices (it must be empty or match)")]
+    AttributeCount { what: &'static str, found: usize, count: usize },
+    #[error("more than 2^32 - 1 vertices")]
+    TooLarge,
+}
+
+impl Mesh {
+    /// Validates `desc` and builds the BVH; zero-area triangles are dropped (counted in
+    /// [`Mesh::degenerate`]) since no ray can hit them.
+    pub fn compile(desc: &MeshDesc) -> Result<Mesh, MeshError> {
+        let count = desc.positions.len();
+        if count >= u32::MAX as usize {
+            return Err(MeshError::TooLarge);
+        }
+        if !desc.indices.len().is_multiple_of(3) {
+            return Err(MeshError::Ragged(desc.indices.len()));
+        }
+        if let Some(i) = desc.positions.iter().position(|p| !p.is_finite()) {
+            return Err(MeshError::NonFinite(i));
+        }
+        for (what, found) in [("the normal list", desc.normals.len()), ("the uv list", desc.uvs.len())] {
+            if found != 0 && found != count {
+                return Err(MeshError::AttributeCount { what, found, count });
+            }
+        }
+        let mut triangles = Vec::with_capacity(desc.indices.len() / 3);
+        let mut degenerate = 0;
+        for (triangle, tri) in desc.indices.chunks_exact(3).enumerate() {
+            if let Some(&index) = tri.iter().find(|&&i| i as usize >= count) {
+                return Err(MeshError::IndexOutOfRange { triangle, index, count });
+            }
+            let [a, b, c] = [tri[0], tri[1], tri[2]].map(|i| desc.positions[i as usize]);
+            if (b - a).cross(c - a).length_squared() > 0.0 {
+                triangles.push([tri[0], tri[1], tri[2]]);
+            } else {
+                degenerate += 1;
+            }
+        }
+        // Non-finite or zero normals would poison shading; fall back to flat shading.
+        let normals = if desc.normals.iter().all(|n| n.is_finite() && n.length_squared() > 0.0) {
+            desc.normals.clone()
+        } else {
+            Vec::new()
+        };
+        let uvs = if desc.uvs.iter().all(|uv| uv.is_finite()) { desc.uvs.clone() } else { Vec::new() };
+        let mut mesh =
+            Mesh { positions: desc.positions.clone(), normals, uvs, triangles, bvh: Bvh::default(), degenerate };
+        let boxes: Vec<Aabb> = (0..mesh.triangles.len()).map(|i| mesh.triangle_bounds(i)).collect();
+        let (bvh, order) = Bvh::build(&boxes);
+        mesh.triangles = order.iter().map(|&i| mesh.triangles[i as usize]).collect();
+        mesh.bvh = bvh;
+        mesh.renumber_vertices();
+        Ok(mesh)
+    }
+
+    /// Stores vertices in the order the (BVH-ordered) triangles first use them, so that
+    /// triangles near each other in space read vertices near each other in memory;
+    /// vertices no triangle uses are dropped.
+    fn renumber_vertices(&mut self) {
+        let mut new_index = vec![u32::MAX; self.positions.len()];
+        let mut old_of_new = Vec::with_capacity(self.positions.len());
+        for tri in &mut self.triangles {
+            for i in tri.iter_mut() {
+                let slot = &mut new_index[*i as usize];
+                if *slot == u32::MAX {
+                    *slot = old_of_new.len() as u32;
+                    old_of_new.push(*i);
+                }
+                *i = *slot;
+            }
+        }
+        let gather = |v: &[Vec3]| old_of_new.iter().map(|&i| v[i as usize]).collect::<Vec<_>>();
+        self.positions = gather(&self.positions);
+        if !self.normals.is_empty() {
+            self.normals = gather(&self.normals);
+        }
+        if !self.uvs.is_empty() {
+            self.uvs = old_of_new.iter().map(|&i| self.uvs[i as usize]).collect();
+        }
+    }
+
+    #[inline]
+    fn vertices(&self, triangle: usize) -> [Vec3; 3] {
+        self.triangles[triangle].map(|i| self.positions[i as usize])
+    }
+
+    fn triangle_bounds(&self, triangle: usize) -> Aabb {
+        self.vertices(triangle).into_iter().fold(Aabb::EMPTY, Aabb::grow)
+    }
+
+    /// Object-space bounds of every triangle.
+    pub fn bounds(&self) -> Aabb {
+        self.bvh.bounds()
+    }
+
+    /// The closest hit in `(0, t_max)`; `part` is the triangle index.
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<ShapeHit> {
+        let wray = WatertightRay::new(ray)?;
+        let mut best = None;
+        let mut t_max = t_max;
+        self.bvh.traverse(ray, &mut t_max, |tri, t_max| {
+            let [a, b, c] = self.vertices(tri as usize);
+            if let Some(h) = triangle::intersect(&wray, a, b, c, *t_max) {
+                *t_max = h.t;
+                best = Some(ShapeHit { t: h.t, part: tri });
+            }
+            false
+        });
+        best
+    }
+
+    /// Whether any triangle is hit in `(0, t_max)`; stops at the first.
+    pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        let Some(wray) = WatertightRay::new(ray) else { return false };
+        let mut blocked = false;
+        self.bvh.traverse(ray, &mut { t_max }, |tri, t_max| {
+            let [a, b, c] = self.vertices(tri as usize);
+            blocked = triangle::intersect(&wray, a, b, c, *t_max).is_some();
+            blocked
+        });
+        blocked
+    }
+
+    /// Surface data at `hit`: the point from barycentrics, the interpolated shading
+    /// normal (or the geometric one) and uv. Returns the surface and the geometric
+    /// normal `(p1 − p0) × (p2 − p0)`, both in object space and not normalized.
+    pub fn surface(&self, ray: &Ray, hit: ShapeHit) -> (SurfacePoint, Vec3) {
+        let tri = hit.part as usize;
+        let [a, b, c] = self.vertices(tri);
+        let geometric = (b - a).cross(c - a);
+        let bary = WatertightRay::new(ray)
+            .and_then(|w| triangle::intersect(&w, a, b, c, f32::INFINITY))
+            .map_or(Vec3::splat(1.0 / 3.0), |h| h.barycentric);
+        let [i0, i1, i2] = self.triangles[tri].map(|i| i as usize);
+        let point = bary.x * a + bary.y * b + bary.z * c;
+        let (mut normal, mut geometric) = (geometric, geometric);
+        if !self.normals.is_empty() {
+            let n = bary.x * self.normals[i0] + bary.y * self.normals[i1] + bary.z * self.normals[i2];
+            if n.length_squared() > 0.0 {
+                // The file's normals say which side is outside, whatever the winding.
+                normal = n;
+                if n.dot(geometric) < 0.0 {
+                    geometric = -geometric;
+                }
+            }
+        }
+        let uv = if self.uvs.is_empty() {
+            Vec2::new(bary.y, bary.z)
+        } else {
+            bary.x * self.uvs[i0] + bary.y * self.uvs[i1] + bary.z * self.uvs[i2]
+        };
+        (SurfacePoint { point, normal, uv }, geometric)
+    }
+
+    /// Bytes held by the arrays (for reports).
+    pub fn memory_bytes(&self) -> usize {
+        use std::mem::size_of;
+        self.positions.len() * size_of::<Vec3>()
+            + self.normals.len() * size_of::<Vec3>()
+            + self.uvs.len() * size_of::<Vec2>()
+            + self.triangles.len() * 12
+            + self.bvh.nodes.len() * size_of::<crate::accel::BvhNode>()
+    }
+}
+
+#[cfg(test)]
+mod tests;
+
+/// What a [`crate::shape::Shape`] of kind `Mesh` can say on its own: nothing, since the
+/// triangles live in [`crate::scene::RenderScene::meshes`]. The scene routes mesh
+/// instances to [`Mesh`] before the shape dispatch; this keeps that dispatch total.
+pub struct MeshRef;
+
+impl crate::shape::Primitive for MeshRef {
+    fn intersect(&self, _ray: &Ray, _t_max: f32) -> Option<ShapeHit> {
+        None
+    }
+
+    fn surface(&self, ray: &Ray, hit: ShapeHit) -> SurfacePoint {
+        SurfacePoint { point: ray.at(hit.t), normal: -ray.dir, uv: Vec2::ZERO }
+    }
+
+    fn bounds(&self) -> Aabb {
+        Aabb::EMPTY
+    }
+}

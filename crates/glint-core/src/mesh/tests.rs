@@ -1,0 +1,147 @@
+use glam::{Mat3, Vec3};
+use proptest::prelude::*;
+
+use super::triangle::{self, WatertightRay};
+use super::*;
+
+/// An n×n grid of unit quads, each split along alternating diagonals, bent out of the
+/// z = 0 plane by `tilt` so the triangles are not axis-aligned.
+fn grid(n: u32, tilt: Mat3) -> MeshDesc {
+    let mut positions = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            positions.push(tilt * Vec3::new(i as f32, j as f32, 0.0));
+        }
+    }
+    let at = |i: u32, j: u32| j * (n + 1) + i;
+    let mut indices = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            if (i + j) % 2 == 0 {
+                indices.extend([a, b, c, a, c, d]);
+            } else {
+                indices.extend([a, b, d, b, c, d]);
+            }
+        }
+    }
+    MeshDesc { positions, indices, ..Default::default() }
+}
+
+/// How many triangles of `desc` the ray hits, by brute force.
+fn hit_count(desc: &MeshDesc, origin: Vec3, dir: Vec3) -> usize {
+    let w = WatertightRay::new(&Ray::new(origin, dir)).unwrap();
+    desc.indices
+        .chunks_exact(3)
+        .filter(|t| {
+            let [a, b, c] = [t[0], t[1], t[2]].map(|i| desc.positions[i as usize]);
+            triangle::intersect(&w, a, b, c, f32::INFINITY).is_some()
+        })
+        .count()
+}
+
+#[test]
+fn shared_edges_and_vertices_are_hit_exactly_once() {
+    let n = 6;
+    let tilts = [
+        Mat3::IDENTITY,
+        Mat3::from_axis_angle(Vec3::new(1.0, 2.0, 0.5).normalize(), 0.7)
+            * Mat3::from_diagonal(Vec3::new(0.3, 1.7, 1.0)),
+    ];
+    let dirs = [Vec3::NEG_Z, Vec3::new(0.3, -0.2, -1.0), Vec3::new(-0.71, 0.05, -0.4), Vec3::new(0.1, 0.9, -0.33)];
+    for tilt in tilts {
+        let desc = grid(n, tilt);
+        let normal = tilt * Vec3::Z;
+        // Interior vertices and the midpoints of interior edges (axis-aligned ones and
+        // both diagonal directions).
+        let mut targets = Vec::new();
+        for j in 1..n {
+            for i in 1..n {
+                let (x, y) = (i as f32, j as f32);
+                targets.extend([(x, y), (x + 0.5, y), (x, y + 0.5), (x - 0.5, y - 0.5), (x + 0.5, y - 0.5)]);
+            }
+        }
+        for (x, y) in targets {
+            let p = tilt * Vec3::new(x, y, 0.0);
+            for dir in dirs {
+                let d = tilt * dir;
+                // Through p from either side of the plane.
+                for d in [d, -d] {
+                    let origin = p - 7.0 * d;
+                    if d.dot(normal).abs() < 1e-3 {
+                        continue;
+                    }
+                    assert_eq!(hit_count(&desc, origin, d), 1, "target ({x}, {y}), dir {d}, tilt {tilt}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn compile_rejects_bad_meshes_and_drops_degenerate_triangles() {
+    let base = MeshDesc { positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y], indices: vec![0, 1, 2], ..Default::default() };
+    assert!(Mesh::compile(&base).is_ok());
+    let out_of_range = MeshDesc { indices: vec![0, 1, 3], ..base.clone() };
+    assert!(matches!(Mesh::compile(&out_of_range), Err(MeshError::IndexOutOfRange { index: 3, .. })));
+    let nan = MeshDesc { positions: vec![Vec3::ZERO, Vec3::X, Vec3::NAN], ..base.clone() };
+    assert_eq!(Mesh::compile(&nan), Err(MeshError::NonFinite(2)));
+    let ragged = MeshDesc { indices: vec![0, 1], ..base.clone() };
+    assert_eq!(Mesh::compile(&ragged), Err(MeshError::Ragged(2)));
+    let normals = MeshDesc { normals: vec![Vec3::Z], ..base.clone() };
+    assert!(matches!(Mesh::compile(&normals), Err(MeshError::AttributeCount { .. })));
+    let degenerate = MeshDesc { indices: vec![0, 1, 2, 0, 0, 1, 1, 1, 1], ..base };
+    let mesh = Mesh::compile(&degenerate).unwrap();
+    assert_eq!((mesh.triangles.len(), mesh.degenerate), (1, 2));
+}
+
+#[test]
+fn shading_normal_and_uv_are_interpolated() {
+    let desc = MeshDesc {
+        positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
+        normals: vec![Vec3::Z, Vec3::new(1.0, 0.0, 1.0), Vec3::Z],
+        uvs: vec![Vec2::ZERO, Vec2::X, Vec2::Y],
+        indices: vec![0, 1, 2],
+        ..Default::default()
+    };
+    let mesh = Mesh::compile(&desc).unwrap();
+    let ray = Ray::new(Vec3::new(0.5, 0.25, 1.0), Vec3::NEG_Z);
+    let hit = mesh.intersect(&ray, f32::INFINITY).unwrap();
+    let (surface, geometric) = mesh.surface(&ray, hit);
+    assert!((hit.t - 1.0).abs() < 1e-6);
+    assert!((surface.point - Vec3::new(0.5, 0.25, 0.0)).length() < 1e-6);
+    assert!((surface.uv - Vec2::new(0.5, 0.25)).length() < 1e-6);
+    assert!((surface.normal - Vec3::new(0.5, 0.0, 1.0)).length() < 1e-6);
+    assert!(geometric.normalize().abs_diff_eq(Vec3::Z, 1e-6));
+}
+
+fn soup(seeds: &[[f32; 9]]) -> MeshDesc {
+    let positions: Vec<Vec3> =
+        seeds.iter().flat_map(|s| [0, 3, 6].map(|k| Vec3::new(s[k], s[k + 1], s[k + 2]))).collect();
+    let indices = (0..positions.len() as u32).collect();
+    MeshDesc { positions, indices, ..Default::default() }
+}
+
+proptest! {
+    #[test]
+    fn bvh_traversal_equals_brute_force(
+        seeds in prop::collection::vec(prop::array::uniform9(-5.0f32..5.0), 1..120),
+        origin in prop::array::uniform3(-8.0f32..8.0),
+        dir in prop::array::uniform3(-1.0f32..1.0),
+        t_max in prop_oneof![Just(f32::INFINITY), 0.5f32..20.0],
+    ) {
+        let dir = Vec3::from(dir);
+        prop_assume!(dir.length() > 1e-3);
+        let ray = Ray::new(Vec3::from(origin), dir);
+        let desc = soup(&seeds);
+        let mesh = Mesh::compile(&desc).unwrap();
+        let w = WatertightRay::new(&ray).unwrap();
+        let brute = desc.indices.chunks_exact(3).filter_map(|t| {
+            let [a, b, c] = [t[0], t[1], t[2]].map(|i| desc.positions[i as usize]);
+            triangle::intersect(&w, a, b, c, t_max).map(|h| h.t)
+        }).min_by(f32::total_cmp);
+        let found = mesh.intersect(&ray, t_max).map(|h| h.t);
+        prop_assert_eq!(brute, found);
+        prop_assert_eq!(brute.is_some(), mesh.occluded(&ray, t_max));
+    }
+}

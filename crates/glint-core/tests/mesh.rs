@@ -1,0 +1,96 @@
+//! Two-level instancing: a mesh placed several times by transforms renders the same
+//! as copies of it with the transforms baked into the vertices.
+
+use std::sync::atomic::AtomicBool;
+
+use glam::{Mat4, Vec3};
+use glint_core::desc::*;
+use glint_core::film::Image;
+use glint_core::render::render;
+use glint_core::scene::compile;
+
+fn render_desc(desc: &SceneDesc) -> Image {
+    let scene = compile(desc).expect("valid scene");
+    render(&scene, &|_, _| {}, &AtomicBool::new(false)).expect("not cancelled").0
+}
+
+/// An octahedron with smooth vertex normals, counter-clockwise from outside.
+fn octahedron() -> MeshDesc {
+    let positions = vec![Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z];
+    let indices = vec![0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5];
+    MeshDesc { name: "octahedron".into(), normals: positions.clone(), positions, indices, ..Default::default() }
+}
+
+fn placements() -> Vec<Vec<TransformOp>> {
+    vec![
+        vec![TransformOp::Translate(Vec3::new(-1.5, 0.0, 0.0))],
+        vec![TransformOp::Rotate { axis: Vec3::Y, degrees: 30.0 }, TransformOp::Translate(Vec3::new(1.5, 0.2, 0.0))],
+        vec![TransformOp::Scale(Vec3::new(0.5, 1.2, 0.5)), TransformOp::Translate(Vec3::new(0.0, -0.3, 1.0))],
+    ]
+}
+
+fn base() -> SceneDesc {
+    SceneDesc {
+        settings: RenderSettings { width: 64, height: 48, ..Default::default() },
+        lights: vec![LightDesc::Point { position: Vec3::new(3.0, 4.0, 5.0), color: Vec3::ONE, attenuation: Vec3::X }],
+        materials: vec![MaterialDesc { specular: Vec3::splat(0.3), ..Default::default() }],
+        ..Default::default()
+    }
+}
+
+fn node(index: usize, transform: Vec<TransformOp>) -> NodeDesc {
+    NodeDesc {
+        transform,
+        kind: NodeKind::Shape { shape: ShapeDesc::Mesh { index }, material: 0 },
+        origin: String::new(),
+    }
+}
+
+fn matrix_of(ops: &[TransformOp]) -> Mat4 {
+    ops.iter().fold(Mat4::IDENTITY, |m, op| {
+        let t = match *op {
+            TransformOp::Translate(v) => Mat4::from_translation(v),
+            TransformOp::Scale(s) => Mat4::from_scale(s),
+            TransformOp::Rotate { axis, degrees } => Mat4::from_axis_angle(axis.normalize(), degrees.to_radians()),
+            TransformOp::Matrix(rows) => Mat4::from_cols_array_2d(&rows).transpose(),
+        };
+        t * m
+    })
+}
+
+#[test]
+fn instanced_mesh_renders_like_its_flattened_copies() {
+    let mut instanced = base();
+    instanced.meshes.push(octahedron());
+    instanced.objects = placements().into_iter().map(|ops| node(0, ops)).collect();
+
+    let mut flattened = base();
+    for (i, ops) in placements().into_iter().enumerate() {
+        let m = matrix_of(&ops);
+        let normal_m = m.inverse().transpose();
+        let mut mesh = octahedron();
+        mesh.positions.iter_mut().for_each(|p| *p = m.transform_point3(*p));
+        mesh.normals.iter_mut().for_each(|n| *n = normal_m.transform_vector3(*n));
+        flattened.meshes.push(mesh);
+        flattened.objects.push(node(i, vec![]));
+    }
+    let (a, b) = (render_desc(&instanced), render_desc(&flattened));
+    assert_eq!((a.width, a.height), (b.width, b.height));
+    let mut lit = 0;
+    let mut differ = 0;
+    for (p, q) in a.pixels.iter().zip(&b.pixels) {
+        lit += usize::from(p.max_element() > 0.05);
+        differ += usize::from((*p - *q).abs().max_element() > 1e-3);
+    }
+    assert!(lit > 200, "the meshes are visible: {lit} lit pixels");
+    // Only pixels whose sample lands exactly on a silhouette may round differently.
+    assert!(differ <= 2, "{differ} pixels differ");
+}
+
+#[test]
+fn bad_mesh_index_is_a_compile_error() {
+    let mut desc = base();
+    desc.objects.push(node(3, vec![]));
+    let err = compile(&desc).unwrap_err().to_string();
+    assert!(err.contains("mesh index 3 out of range"), "{err}");
+}

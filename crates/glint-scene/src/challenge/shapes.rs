@@ -1,0 +1,304 @@
+//! `- add: sphere|plane|cube|cylinder|cone|group|…` and defined object templates.
+//!
+//! The book's sphere, cube and plane are glint's. Its cylinder and cone are infinite
+//! unless bounded by `min`/`max`, open unless `closed`, and its cone is double-napped
+//! (radius |y|); glint has the closed unit cylinder and a single closed cone, so those
+//! are placed with transforms where that is exact and approximated with a warning where
+//! it is not.
+
+use glam::Vec3;
+use glint_core::desc::{NodeDesc, NodeKind, ShapeDesc, TransformOp};
+
+use super::Reader;
+use super::values::{self, Result};
+use super::yaml::{Value, Yaml};
+use crate::native::lexer::Pos;
+
+/// Where an unbounded cylinder or cone is cut, in object units from the origin.
+pub const UNBOUNDED_EXTENT: f32 = 1000.0;
+
+/// Defined templates may use other templates; deeper nesting than this is a cycle.
+const MAX_NESTING: usize = 64;
+
+/// Kinds glint cannot draw yet, skipped with a warning.
+const SKIPPED: [&str; 4] = ["obj", "csg", "triangle", "smooth-triangle"];
+
+impl Reader {
+    /// One object item; `None` when it is skipped. `inherited` is the material of the
+    /// enclosing group, used by children that name none.
+    pub(super) fn object(&mut self, item: &Yaml, inherited: Option<&Yaml>, depth: usize) -> Result<Option<NodeDesc>> {
+        let src = &self.src;
+        if depth >= MAX_NESTING {
+            return Err(src.invalid(item.pos, format!("objects nest more than {MAX_NESTING} deep")));
+        }
+        let entries = values::mapping(src, item, "an object")?;
+        let kind_node = values::required(src, entries, item.pos, "add", "an object")?;
+        let kind = values::word(src, kind_node, "add")?;
+        match kind {
+            "sphere" | "plane" | "cube" | "cylinder" | "cone" => self.shape(item, entries, kind, inherited).map(Some),
+            "group" => self.group(item, entries, inherited, depth).map(Some),
+            _ if SKIPPED.contains(&kind) => {
+                let what = match kind {
+                    "obj" => {
+                        let file = values::get(entries, "file").and_then(Yaml::scalar).unwrap_or("?");
+                        format!("OBJ meshes are not supported yet; '{file}' is skipped")
+                    }
+                    "csg" => "CSG (union, intersection, difference) is not supported yet; the object is skipped".into(),
+                    _ => format!("glint has no '{kind}' primitive yet; the object is skipped"),
+                };
+                self.warn(kind_node.pos, what);
+                Ok(None)
+            }
+            "camera" | "light" => {
+                Err(src
+                    .invalid(kind_node.pos, format!("a {kind} belongs at the top level of the scene, not in a group")))
+            }
+            _ => match self.defines.get(kind).filter(|d| d.value.get("add").is_some()) {
+                Some(define) => {
+                    let merged = template(&define.value, item);
+                    self.object(&merged, inherited, depth + 1)
+                }
+                None => {
+                    let mut known: Vec<&str> = ADD_KINDS.to_vec();
+                    let mut templates: Vec<&str> = self
+                        .defines
+                        .iter()
+                        .filter(|(_, d)| d.value.get("add").is_some())
+                        .map(|(name, _)| name.as_str())
+                        .collect();
+                    templates.sort_unstable();
+                    known.extend(templates);
+                    Err(self.src.invalid(
+                        kind_node.pos,
+                        format!("unknown object '{kind}'; expected one of: {}", known.join(", ")),
+                    ))
+                }
+            },
+        }
+    }
+
+    /// A primitive with its material and transform.
+    fn shape(
+        &mut self,
+        item: &Yaml,
+        entries: &[(Yaml, Yaml)],
+        kind: &str,
+        inherited: Option<&Yaml>,
+    ) -> Result<NodeDesc> {
+        let src = &self.src;
+        let mut known = vec!["add", "material", "transform", "shadow"];
+        if matches!(kind, "cylinder" | "cone") {
+            known.extend(["min", "max", "closed"]);
+        }
+        let mut warnings = Vec::new();
+        values::unknown_keys(src, entries, &known, &format!("in '{kind}'"), &mut warnings);
+        if let Some(shadow) = values::get(entries, "shadow")
+            && !values::boolean(src, shadow, "shadow")?
+        {
+            warnings.push(src.warning(shadow.pos, "glint objects always cast shadows; 'shadow: false' is ignored"));
+        }
+        let transform = match values::get(entries, "transform") {
+            Some(t) => self.transform(t, "transform")?,
+            None => Vec::new(),
+        };
+        let bounds = if matches!(kind, "cylinder" | "cone") { Some(self.bounds(entries, item.pos)?) } else { None };
+        for warning in warnings {
+            if !self.warnings.contains(&warning) {
+                self.warnings.push(warning);
+            }
+        }
+        let shape = match kind {
+            "sphere" => ShapeDesc::Sphere,
+            "plane" => ShapeDesc::Plane,
+            "cube" => ShapeDesc::Cube,
+            "cylinder" => ShapeDesc::Cylinder,
+            _ => ShapeDesc::Cone,
+        };
+        let material_node = values::get(entries, "material").or(inherited);
+        let material = self.material(material_node, shape, kind, item.pos)?;
+        let origin = self.src.origin(item.pos);
+        let leaf = |pre: Vec<TransformOp>| NodeDesc {
+            transform: pre,
+            kind: NodeKind::Shape { shape, material },
+            origin: origin.clone(),
+        };
+        let node = match (shape, bounds) {
+            (ShapeDesc::Cylinder, Some(b)) => {
+                let mut ops = self.cylinder_placement(item.pos, b);
+                ops.extend(transform);
+                NodeDesc { transform: ops, ..leaf(Vec::new()) }
+            }
+            (ShapeDesc::Cone, Some(b)) => {
+                let nappes = self.cone_placement(item.pos, b);
+                match <[Vec<TransformOp>; 1]>::try_from(nappes) {
+                    Ok([mut ops]) => {
+                        ops.extend(transform);
+                        leaf(ops)
+                    }
+                    Err(nappes) => {
+                        self.count_nodes(item.pos, nappes.len())?;
+                        NodeDesc {
+                            transform,
+                            kind: NodeKind::Group(nappes.into_iter().map(leaf).collect()),
+                            origin: origin.clone(),
+                        }
+                    }
+                }
+            }
+            _ => leaf(transform),
+        };
+        self.count_nodes(item.pos, 1)?;
+        Ok(node)
+    }
+
+    /// `min`, `max` and `closed` of a cylinder or cone, with the book's defaults
+    /// (unbounded and open).
+    fn bounds(&self, entries: &[(Yaml, Yaml)], pos: Pos) -> Result<Bounds> {
+        let src = &self.src;
+        let min = values::get(entries, "min").map(|n| values::bound(src, n, "min")).transpose()?;
+        let max = values::get(entries, "max").map(|n| values::bound(src, n, "max")).transpose()?;
+        let closed = values::get(entries, "closed").map(|n| values::boolean(src, n, "closed")).transpose()?;
+        let (min, max) = (min.unwrap_or(f32::NEG_INFINITY), max.unwrap_or(f32::INFINITY));
+        if min >= max {
+            let at = values::get(entries, "max").or_else(|| values::get(entries, "min")).map_or(pos, |n| n.pos);
+            return Err(src.invalid(at, format!("'min' {min} must be below 'max' {max}, or the object is empty")));
+        }
+        Ok(Bounds { min, max, closed: closed.unwrap_or(false) })
+    }
+
+    /// glint's cylinder (−1 ≤ y ≤ 1, closed) scaled and moved onto `min ≤ y ≤ max`.
+    fn cylinder_placement(&mut self, pos: Pos, b: Bounds) -> Vec<TransformOp> {
+        let (lo, hi) = self.cut_unbounded(pos, b, "cylinder");
+        if !b.closed {
+            self.warn(pos, "glint's cylinders have caps; this open cylinder is drawn closed");
+        }
+        vec![
+            TransformOp::Scale(Vec3::new(1.0, 0.5 * (hi - lo), 1.0)),
+            TransformOp::Translate(Vec3::new(0.0, 0.5 * (hi + lo), 0.0)),
+        ]
+    }
+
+    /// The book's cone (radius |y|) from glint's cones (apex y = 1, base radius 1 at
+    /// y = −1): one nappe, or two apex to apex for `min < 0 < max`. Each is a transform
+    /// list placing one glint cone.
+    fn cone_placement(&mut self, pos: Pos, b: Bounds) -> Vec<Vec<TransformOp>> {
+        let (mut lo, mut hi) = self.cut_unbounded(pos, b, "cone");
+        if !b.closed {
+            self.warn(pos, "glint's cones have a base cap; this open cone is drawn closed");
+        }
+        if lo > 0.0 || hi < 0.0 {
+            self.warn(pos, "glint's cones reach their apex; this truncated cone is drawn up to its apex at y = 0");
+            lo = lo.min(0.0);
+            hi = hi.max(0.0);
+        }
+        [hi, lo].into_iter().filter(|&end| end != 0.0).map(nappe).collect()
+    }
+
+    /// Replaces infinite bounds by ±[`UNBOUNDED_EXTENT`], with a warning.
+    fn cut_unbounded(&mut self, pos: Pos, b: Bounds, what: &str) -> (f32, f32) {
+        if b.min.is_finite() && b.max.is_finite() {
+            return (b.min, b.max);
+        }
+        let lo = if b.min.is_finite() { b.min } else { b.max.min(0.0) - UNBOUNDED_EXTENT };
+        let hi = if b.max.is_finite() { b.max } else { b.min.max(0.0) + UNBOUNDED_EXTENT };
+        self.warn(pos, format!("glint has no infinite {what}; this one is cut at y = {lo} and y = {hi}"));
+        (lo, hi)
+    }
+
+    /// `- add: group` with `children`, `transform` and a `material` for children that
+    /// name none.
+    fn group(
+        &mut self,
+        item: &Yaml,
+        entries: &[(Yaml, Yaml)],
+        inherited: Option<&Yaml>,
+        depth: usize,
+    ) -> Result<NodeDesc> {
+        let mut warnings = Vec::new();
+        values::unknown_keys(
+            &self.src,
+            entries,
+            &["add", "children", "transform", "material"],
+            "in 'group'",
+            &mut warnings,
+        );
+        for warning in warnings {
+            if !self.warnings.contains(&warning) {
+                self.warnings.push(warning);
+            }
+        }
+        let transform = match values::get(entries, "transform") {
+            Some(t) => self.transform(t, "transform")?,
+            None => Vec::new(),
+        };
+        let material = values::get(entries, "material").or(inherited);
+        let mut children = Vec::new();
+        if let Some(list) = values::get(entries, "children") {
+            for child in values::list(&self.src, list, "children")? {
+                if let Some(node) = self.object(child, material, depth + 1)? {
+                    children.push(node);
+                }
+            }
+        }
+        self.count_nodes(item.pos, 1)?;
+        Ok(NodeDesc { transform, kind: NodeKind::Group(children), origin: self.src.origin(item.pos) })
+    }
+}
+
+/// What `add:` names directly, for the "expected one of" message.
+const ADD_KINDS: [&str; 11] =
+    ["camera", "light", "sphere", "plane", "cube", "cylinder", "cone", "group", "obj", "csg", "triangle"];
+
+/// `min`/`max` (possibly infinite) and `closed` of a cylinder or cone.
+#[derive(Clone, Copy, Debug)]
+struct Bounds {
+    min: f32,
+    max: f32,
+    closed: bool,
+}
+
+/// The transform taking glint's cone (apex y = 1, base y = −1, radius 1) to the book's
+/// nappe from the apex at y = 0 to its closed end at y = `end` (radius |end|):
+/// `y = (end/2)·(1 − y_glint)`, radius scaled by |end|.
+fn nappe(end: f32) -> Vec<TransformOp> {
+    vec![
+        TransformOp::Scale(Vec3::new(end.abs(), -0.5 * end, end.abs())),
+        TransformOp::Translate(Vec3::new(0.0, 0.5 * end, 0.0)),
+    ]
+}
+
+/// A defined object template used as `add: NAME`: the definition's keys overridden by
+/// the item's, except `transform`, where the item's list follows the definition's.
+fn template(define: &Yaml, item: &Yaml) -> Yaml {
+    let base = define.map().unwrap_or_default();
+    let over = item.map().unwrap_or_default();
+    let mut merged: Vec<(Yaml, Yaml)> = base
+        .iter()
+        .filter(|(k, _)| {
+            let key = k.scalar().unwrap_or("");
+            key == "add" || key == "transform" || values::get(over, key).is_none()
+        })
+        .cloned()
+        .collect();
+    for (k, v) in over {
+        match k.scalar() {
+            Some("add") => {}
+            Some("transform") => {
+                let as_items = |t: &Yaml| match t.seq() {
+                    Some(items) => items.to_vec(),
+                    None => vec![t.clone()],
+                };
+                match merged.iter_mut().find(|(key, _)| key.scalar() == Some("transform")) {
+                    Some((_, existing)) => {
+                        let mut items = as_items(existing);
+                        items.extend(as_items(v));
+                        *existing = Yaml { value: Value::Seq(items), pos: v.pos };
+                    }
+                    None => merged.push((k.clone(), v.clone())),
+                }
+            }
+            _ => merged.push((k.clone(), v.clone())),
+        }
+    }
+    Yaml { value: Value::Map(merged), pos: item.pos }
+}

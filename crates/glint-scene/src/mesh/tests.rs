@@ -1,0 +1,173 @@
+use std::path::PathBuf;
+
+use glam::{Vec2, Vec3};
+
+use super::*;
+
+/// A fresh folder for one test's files.
+fn folder(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("glint-mesh-{}-{test}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, bytes).unwrap();
+    path
+}
+
+#[test]
+fn obj_with_uvs_normals_negative_indices_and_mtl() {
+    let dir = folder("obj");
+    write(&dir, "m.mtl", b"newmtl red\nKd 1 0 0\nKs 0.5 0.5 0.5\nNs 10\n");
+    let obj =
+        b"mtllib m.mtl\n# a unit quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n\
+usemtl red\nf 1/1/1 2/2/1 3/3/1 4/4/1\nf -4/-4/-1 -2/-2/-1 -1/-1/-1\nl 1 2\n";
+    let path = write(&dir, "quad.obj", obj);
+    let import = load_mesh(&path).unwrap();
+    assert_eq!(import.meshes.len(), 1);
+    let mesh = &import.meshes[0];
+    assert_eq!(mesh.indices.len(), 9);
+    assert_eq!(mesh.positions.len(), 4, "corners with the same v/vt/vn share a vertex");
+    assert_eq!(mesh.uvs[2], Vec2::ONE);
+    assert!(mesh.normals.iter().all(|&n| n == Vec3::Z));
+    assert_eq!(import.materials[0].diffuse, Vec3::X);
+    assert_eq!(import.materials[0].shininess, 10.0);
+    assert_eq!(import.placements[0].material, Some(0));
+    assert!(import.warnings.iter().any(|w| w.contains("1 'l'")), "{:?}", import.warnings);
+}
+
+#[test]
+fn bad_obj_files_name_file_and_line() {
+    let dir = folder("bad-obj");
+    let out_of_range = write(&dir, "range.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n");
+    let e = load_mesh(&out_of_range).unwrap_err();
+    assert_eq!(e.line, 4);
+    assert!(e.to_string().contains("range.obj:4") && e.message.contains("vertex index 4"), "{e}");
+    let nan = write(&dir, "nan.obj", b"v 0 0 0\nv nan 0 0\n");
+    let e = load_mesh(&nan).unwrap_err();
+    assert_eq!(e.line, 2, "{e}");
+    let binary = write(&dir, "bin.obj", &[0u8, 1, 2, 3, 0, 0]);
+    assert!(load_mesh(&binary).unwrap_err().message.contains("binary"));
+    let missing = load_mesh(&dir.join("missing.obj")).unwrap_err();
+    assert!(missing.to_string().contains("missing.obj"), "{missing}");
+    let empty = write(&dir, "empty.obj", b"v 0 0 0\n");
+    assert!(load_mesh(&empty).unwrap_err().message.contains("no triangles"));
+}
+
+const PLY_HEADER: &str = "element vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty uchar red\n\
+element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+
+#[test]
+fn ply_ascii_and_binary_read_the_same() {
+    let dir = folder("ply");
+    let ascii =
+        format!("ply\nformat ascii 1.0\ncomment quad\n{PLY_HEADER}0 0 0 9\n1 0 0 9\n1 1 0 9\n0 1 0 9\n4 0 1 2 3\n");
+    let a = load_mesh(&write(&dir, "a.ply", ascii.as_bytes())).unwrap();
+    let mut binary = format!("ply\nformat binary_little_endian 1.0\n{PLY_HEADER}").into_bytes();
+    for p in [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]] {
+        p.iter().for_each(|x| binary.extend(x.to_le_bytes()));
+        binary.push(9);
+    }
+    binary.push(4);
+    [0i32, 1, 2, 3].iter().for_each(|i| binary.extend(i.to_le_bytes()));
+    let b = load_mesh(&write(&dir, "b.ply", &binary)).unwrap();
+    assert_eq!(a.meshes[0].positions, b.meshes[0].positions);
+    assert_eq!(a.meshes[0].indices, vec![0, 1, 2, 0, 2, 3]);
+    assert_eq!(a.meshes[0].indices, b.meshes[0].indices);
+}
+
+#[test]
+fn bad_ply_files_are_refused() {
+    let dir = folder("bad-ply");
+    let huge = "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nend_header\n";
+    assert!(load_mesh(&write(&dir, "huge.ply", huge.as_bytes())).unwrap_err().message.contains("more data"));
+    let range = format!("ply\nformat ascii 1.0\n{PLY_HEADER}0 0 0 9\n1 0 0 9\n1 1 0 9\n0 1 0 9\n3 0 1 7\n");
+    let e = load_mesh(&write(&dir, "range.ply", range.as_bytes())).unwrap_err();
+    assert!(e.message.contains("out of range"), "{e}");
+    let word = format!("ply\nformat ascii 1.0\n{PLY_HEADER}0 0 0 9\n1 zero 0 9\n");
+    let e = load_mesh(&write(&dir, "word.ply", word.as_bytes())).unwrap_err();
+    assert_eq!(e.line, 12, "{e}");
+    assert!(load_mesh(&write(&dir, "not.ply", b"hello")).unwrap_err().message.contains("not a PLY"));
+}
+
+/// A GLB with one triangle mesh used by two nodes, and a red material.
+fn tiny_glb() -> Vec<u8> {
+    let mut bin = Vec::new();
+    for p in [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]] {
+        p.iter().for_each(|x| bin.extend(x.to_le_bytes()));
+    }
+    [0u16, 1, 2, 0].iter().for_each(|i| bin.extend(i.to_le_bytes()));
+    let json = r#"{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0,1]}],
+"nodes":[{"mesh":0},{"mesh":0,"translation":[3,0,0]}],
+"meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1,"material":0}]}],
+"materials":[{"pbrMetallicRoughness":{"baseColorFactor":[1,0,0,1]}}],
+"buffers":[{"byteLength":44}],
+"bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":6}],
+"accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]},
+{"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}]}"#;
+    let mut json = json.as_bytes().to_vec();
+    while !json.len().is_multiple_of(4) {
+        json.push(b' ');
+    }
+    let total = 12 + 8 + json.len() + 8 + bin.len();
+    let mut glb = b"glTF".to_vec();
+    glb.extend(2u32.to_le_bytes());
+    glb.extend((total as u32).to_le_bytes());
+    glb.extend((json.len() as u32).to_le_bytes());
+    glb.extend(b"JSON");
+    glb.extend(json);
+    glb.extend((bin.len() as u32).to_le_bytes());
+    glb.extend(b"BIN\0");
+    glb.extend(bin);
+    glb
+}
+
+#[test]
+fn glb_meshes_are_stored_once_and_placed_by_nodes() {
+    let dir = folder("glb");
+    let path = write(&dir, "tri.glb", &tiny_glb());
+    let import = load_mesh(&path).unwrap();
+    assert_eq!(import.meshes.len(), 1);
+    assert_eq!(import.placements.len(), 2);
+    assert_eq!(import.placements[1].world_from_object.transform_point3(Vec3::ZERO), Vec3::new(3.0, 0.0, 0.0));
+    assert_eq!(import.materials[0].diffuse, Vec3::X);
+    let flat = merged(&import, "tri", "tri.glb");
+    assert_eq!((flat.positions.len(), flat.indices.len()), (6, 6));
+    assert!(load_mesh(&write(&dir, "junk.glb", b"PK\x03\x04 not gltf")).unwrap_err().message.contains("not a glTF"));
+}
+
+#[test]
+fn a_model_alone_becomes_a_framed_scene() {
+    let dir = folder("model");
+    let path = write(&dir, "tri.glb", &tiny_glb());
+    let loaded = crate::load_any(&path).unwrap();
+    assert_eq!(loaded.format, crate::SceneFormat::Mesh);
+    let mut desc = loaded.scene;
+    assert_eq!(desc.lights.len(), 2);
+    desc.settings.width = 32;
+    desc.settings.height = 24;
+    let scene = glint_core::scene::compile(&desc).unwrap();
+    let cancel = std::sync::atomic::AtomicBool::new(false);
+    let image = glint_core::render::render(&scene, &|_, _| {}, &cancel).unwrap().0;
+    let red = image.pixels.iter().filter(|p| p.x > 0.2 && p.y < 0.05).count();
+    assert!(red > 10, "the model is in the frame: {red} red pixels");
+}
+
+#[test]
+fn native_mesh_definitions_are_stored_once_and_instanced() {
+    let dir = folder("native");
+    write(&dir, "tri.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    let text = "material \"red\" { diffuse [1 0 0] }\nmesh \"tri\" { file \"tri.obj\" }\n\
+mesh_instance \"tri\" { material \"red\" }\ngroup { translate [2 0 0] mesh_instance \"tri\" { scale 2 } }\n";
+    let desc = crate::parse_scene(text, "s.glint", &dir).unwrap();
+    assert_eq!(desc.meshes.len(), 1);
+    assert_eq!(desc.meshes[0].indices, vec![0, 1, 2]);
+    assert_eq!(desc.objects.len(), 2);
+    assert!(glint_core::scene::compile(&desc).is_ok());
+    let e = crate::parse_scene("mesh_instance \"nope\" {}", "s.glint", &dir).unwrap_err();
+    assert!(e.message.contains("unknown mesh 'nope'"), "{e}");
+    let e = crate::parse_scene("mesh \"m\" { file \"missing.ply\" }", "s.glint", &dir).unwrap_err();
+    assert!(e.to_string().contains("missing.ply"), "{e}");
+}
