@@ -79,6 +79,10 @@ pub struct Hit {
     /// Unit normal of the true surface (the triangle's plane on meshes), on the same
     /// side as `normal`: for offsetting secondary rays and deciding inside/outside.
     pub geometric_normal: Vec3,
+    /// Where shadow rays leaving the outside should start: `point`, except on smooth
+    /// meshes, where it is lifted toward the surface the normals describe
+    /// ([`crate::mesh::MeshSurface::shadow_point`]).
+    pub shadow_point: Vec3,
     pub uv: Vec2,
     pub material: u32,
 }
@@ -347,11 +351,14 @@ impl RenderScene {
         let (index, hit) = best?;
         let inst = &self.instances[index as usize];
         let local = inst.transform.ray_to_object(ray);
-        let (surface, geometric) = match inst.shape.kind {
-            ShapeKind::Mesh => self.meshes[inst.shape.mesh_index() as usize].surface(&local, hit),
+        let (surface, geometric, shadow_point) = match inst.shape.kind {
+            ShapeKind::Mesh => {
+                let m = self.meshes[inst.shape.mesh_index() as usize].surface(&local, hit);
+                (m.surface, m.geometric, m.shadow_point)
+            }
             _ => {
                 let surface = inst.shape.surface_with(&self.shape_tables, &local, hit);
-                (surface, surface.normal)
+                (surface, surface.normal, surface.point)
             }
         };
         let normal = inst.transform.normal_to_world(surface.normal).normalize_or(Vec3::Y);
@@ -360,6 +367,7 @@ impl RenderScene {
             point: inst.transform.point_to_world(surface.point),
             normal,
             geometric_normal: inst.transform.normal_to_world(geometric).normalize_or(normal),
+            shadow_point: inst.transform.point_to_world(shadow_point),
             uv: surface.uv,
             material: inst.shape.hit_material(&self.shape_tables, hit).unwrap_or(inst.material),
         })

@@ -471,3 +471,31 @@ fn rendering_through_csg_solids() {
         }
     }
 }
+
+/// Shadow rays see the carved solid: light passes through a hole drilled through a slab
+/// and is blocked beside it.
+#[test]
+fn shadows_pass_through_carved_holes() {
+    let slab = node(
+        csg(
+            SetOp::Difference,
+            vec![
+                shape(ShapeDesc::Cube, 0, vec![TransformOp::Scale(Vec3::new(2.0, 0.1, 2.0))]),
+                shape(ShapeDesc::Cylinder, 0, vec![TransformOp::Scale(Vec3::new(0.5, 1.0, 0.5))]),
+            ],
+        ),
+        vec![TransformOp::Translate(Vec3::new(0.0, 1.0, 0.0))],
+    );
+    let scene = scene_of(vec![slab]);
+    let up = Vec3::Y;
+    // From the floor straight up: through the hole, then beside it.
+    assert!(!scene.occluded(&Ray::new(Vec3::new(0.2, 0.0, 0.1), up), 10.0));
+    assert!(scene.occluded(&Ray::new(Vec3::new(1.0, 0.0, 0.0), up), 10.0));
+    // A slanted ray that enters the hole but leaves through its wall is blocked.
+    // (At y = 0.9 it is at x = 0.3, in the hole; it meets the wall x = 0.5 at y = 1.)
+    assert!(scene.occluded(&Ray::new(Vec3::new(-1.5, 0.0, 0.0), Vec3::new(2.0, 1.0, 0.0)), 10.0));
+    assert!(!scene.occluded(&Ray::new(Vec3::new(-0.3, 0.0, 0.0), Vec3::new(0.6, 1.0, 0.0)), 10.0));
+    // Inside the hole the wall's normal faces the axis (out of the solid, into the hole).
+    let hit = scene.intersect(&Ray::new(Vec3::new(0.0, 1.0, 0.0), Vec3::X), 10.0).expect("hits the wall");
+    assert!((hit.t - 0.5).abs() < 1e-5 && hit.normal.x < -0.99, "{hit:?}");
+}

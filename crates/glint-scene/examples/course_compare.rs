@@ -166,7 +166,8 @@ fn main() {
         outcomes.push(outcome);
     }
     let matched = outcomes.iter().filter(|o| verdict(&o.result) == "match").count();
-    println!("{matched} of {} scenes match their reference", outcomes.len());
+    let seconds: f64 = outcomes.iter().map(|o| o.seconds).sum();
+    println!("{matched} of {} scenes match their reference ({seconds:.1} s)", outcomes.len());
     if let Some(doc) = doc {
         std::fs::write(&doc, report(&outcomes, &format!("{}/", root.display()))).expect("write the report");
         println!("wrote {}", doc.display());
@@ -356,8 +357,6 @@ fn report(outcomes: &[Outcome], root_prefix: &str) -> String {
             md.push_str(&format!("  - {}\n", w.replace(root_prefix, "")));
         }
     }
-    let total: f64 = outcomes.iter().map(|o| o.seconds).sum();
-    md.push_str(&format!("\nLoading and rendering all {} scenes took {total:.1} s.\n", outcomes.len()));
     md
 }
 

@@ -6,9 +6,7 @@ use std::path::Path;
 use std::sync::atomic::AtomicBool;
 
 use glam::Vec3;
-use glint_core::desc::{
-    BlobComponentShape, NodeDesc, NodeKind, SceneDesc, SetOp, SolidDesc, TransformOp,
-};
+use glint_core::desc::{BlobComponentShape, NodeDesc, NodeKind, SceneDesc, SetOp, SolidDesc, TransformOp};
 use glint_core::render::render;
 use glint_core::scene::compile;
 use glint_scene::{SceneError, load_scene, parse_scene};
@@ -140,7 +138,12 @@ fn csg_mistakes_are_located() {
     assert_error("difference {\n  cube { }\n  disk { }\n}", 3, 3, "a disk has no inside");
     assert_error("intersection { sphere { } radius 2 }", 1, 27, "unknown node 'radius' in 'intersection'");
     assert_error("union { material \"nope\" sphere { } }", 1, 18, "unknown material 'nope'");
-    assert_error("material \"a\" {}\nmaterial \"b\" {}\nunion { material \"a\" material \"b\" sphere { } }", 3, 22, "set twice");
+    assert_error(
+        "material \"a\" {}\nmaterial \"b\" {}\nunion { material \"a\" material \"b\" sphere { } }",
+        3,
+        22,
+        "set twice",
+    );
 }
 
 #[test]
@@ -196,9 +199,6 @@ fn example_scenes_render_without_nan_or_infinity() {
             }
         }
         assert!(lit > 400, "{file}: only {lit} pixels see anything");
-        assert!(
-            desc.objects.iter().any(|o| matches!(o.kind, NodeKind::Solid(_))),
-            "{file} shows no solid"
-        );
+        assert!(desc.objects.iter().any(|o| matches!(o.kind, NodeKind::Solid(_))), "{file} shows no solid");
     }
 }

@@ -62,8 +62,11 @@ fn direct_lighting(scene: &RenderScene, hit: &Hit, m: &Material, n: Vec3, v: Vec
         (features.textures && m.texture != NO_TEXTURE).then(|| scene.texture(m.texture, hit.uv * m.texture_repeat));
     let diffuse = m.diffuse_with(texel);
     let mut color = scene.settings.ambient_light * m.ambient;
-    let ng = if hit.geometric_normal.dot(n) < 0.0 { -hit.geometric_normal } else { hit.geometric_normal };
-    let shadow_origin = offset_ray_origin(hit.point, ng);
+    // Seen from outside, a smooth mesh's shadow rays start on the surface its normals
+    // describe (Hanika 2021), which removes the jagged self-shadow at the terminator.
+    let outside = hit.geometric_normal.dot(n) >= 0.0;
+    let ng = if outside { hit.geometric_normal } else { -hit.geometric_normal };
+    let shadow_origin = offset_ray_origin(if outside { hit.shadow_point } else { hit.point }, ng);
     for light in &scene.lights {
         // An area light is the sum of its stratified samples; the others have one.
         for index in 0..light.sample_count() {

@@ -20,7 +20,7 @@ pub fn eval(c: &[f64], x: f64) -> f64 {
 /// changes sign, ascending, written to `out`; returns how many. A root where `p` touches
 /// zero without crossing (an exact double root) is not a crossing and is not reported.
 pub fn roots_in(c: &[f64], lo: f64, hi: f64, out: &mut [f64; MAX_DEGREE]) -> usize {
-    if c.len() < 2 || !(lo < hi) {
+    if c.len() < 2 || lo.is_nan() || hi.is_nan() || lo >= hi {
         return 0;
     }
     let degree = (c.len() - 1).min(MAX_DEGREE);
@@ -46,8 +46,8 @@ pub fn roots_in(c: &[f64], lo: f64, hi: f64, out: &mut [f64; MAX_DEGREE]) -> usi
     n
 }
 
-/// A root of `f` in `[a, b]` where `f(a) = fa` and `f(b) = fb` lie on opposite sides of
-/// zero (`fa < 0` differs from `fb < 0`). The Illinois variant of regula falsi (Dowell &
+/// Where `f` changes sign in `[a, b]`, given `f(a) = fa` and `f(b) = fb` on opposite
+/// sides (`fa < 0` differs from `fb < 0`). The Illinois variant of regula falsi (Dowell &
 /// Jarratt, 1971): superlinear, and the bracket never lets the root escape. Stops when
 /// the bracket is as narrow as the numbers allow.
 pub fn refine_root(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64, mut fa: f64, mut fb: f64) -> f64 {
@@ -55,7 +55,7 @@ pub fn refine_root(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64, mut fa: f64, 
     let mut side = 0i8;
     for iteration in 0..256 {
         let width = b - a;
-        if !(width > 4.0 * f64::EPSILON * a.abs().max(b.abs())) {
+        if width.is_nan() || width <= 4.0 * f64::EPSILON * a.abs().max(b.abs()) {
             break;
         }
         // A secant step kept inside the bracket; every fourth step (and whenever the
@@ -65,10 +65,9 @@ pub fn refine_root(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64, mut fa: f64, 
         let margin = 1e-3 * width;
         let x =
             if secant.is_finite() && iteration % 4 != 3 { secant.clamp(a + margin, b - margin) } else { 0.5 * (a + b) };
+        // Zero counts with the positive side, so a function that is 0 on a whole
+        // stretch is bracketed to where it turns negative.
         let fx = f(x);
-        if fx == 0.0 {
-            return x;
-        }
         if (fx < 0.0) == a_negative {
             (a, fa) = (x, fx);
             if side == -1 {

@@ -15,6 +15,9 @@ use crate::shape::{
     placed_bounds,
 };
 
+// Box faces (parts up to 6) must fit below the flip bit of a CSG hit's part.
+const _: () = assert!(MAX_LEAF_PART > 6);
+
 /// Grid points per axis at which a given Lipschitz bound is checked against `|∇f|`.
 const LIPSCHITZ_SAMPLES: u32 = 16;
 
@@ -306,7 +309,6 @@ impl CsgBuild<'_> {
             }
         };
         let bounds = placed_bounds(shape.bounds_with(self.tables), &transform.world_from_object);
-        debug_assert!(MAX_LEAF_PART > 6, "leaf parts must fit beside the flip bit");
         let index = self.tables.csg_nodes.len() as u32;
         Ok(self.push(CsgNode {
             transform,

@@ -78,7 +78,7 @@ impl BlobComponent {
     }
 
     /// `Mᵀ·v`, which carries a component-space gradient back to blob space.
-    fn to_blob_gradient(&self, v: DVec3) -> DVec3 {
+    fn gradient_in_blob(&self, v: DVec3) -> DVec3 {
         let [c0, c1, c2] = self.matrix();
         DVec3::new(c0.dot(v), c1.dot(v), c2.dot(v))
     }
@@ -104,7 +104,7 @@ impl BlobComponent {
         if r2 >= 1.0 {
             return DVec3::ZERO;
         }
-        self.to_blob_gradient(radial) * (-4.0 * self.strength as f64 * (1.0 - r2))
+        self.gradient_in_blob(radial) * (-4.0 * self.strength as f64 * (1.0 - r2))
     }
 
     /// Where the field is non-zero, in blob space.

@@ -109,7 +109,7 @@ pub fn combine(op: CsgOp, a: &[Span], b: &[Span], out: &mut Vec<Span>) {
         CsgOp::Difference if a.is_empty() => return,
         _ => {}
     }
-    let end = |spans: &[Span], k: usize| if k % 2 == 0 { spans[k / 2].enter } else { spans[k / 2].exit };
+    let end = |spans: &[Span], k: usize| if k & 1 == 0 { spans[k / 2].enter } else { spans[k / 2].exit };
     let (na, nb) = (2 * a.len(), 2 * b.len());
     let (mut ia, mut ib) = (0, 0);
     let (mut in_a, mut in_b, mut inside) = (false, false, false);
@@ -120,12 +120,12 @@ pub fn combine(op: CsgOp, a: &[Span], b: &[Span], out: &mut Vec<Span>) {
         let t = ta.min(tb);
         let (mut from_a, mut from_b) = (None, None);
         while ia < na && end(a, ia).t == t {
-            in_a = ia % 2 == 0;
+            in_a = ia & 1 == 0;
             from_a = Some(end(a, ia));
             ia += 1;
         }
         while ib < nb && end(b, ib).t == t {
-            in_b = ib % 2 == 0;
+            in_b = ib & 1 == 0;
             from_b = Some(end(b, ib));
             ib += 1;
         }
@@ -193,8 +193,8 @@ impl CsgShape<'_> {
             let Scratch { spans, stack, result } = scratch;
             spans.clear();
             stack.clear();
-            for index in nodes[root].first as usize..=root {
-                let node = &nodes[index];
+            let first = nodes[root].first as usize;
+            for (index, node) in nodes.iter().enumerate().take(root + 1).skip(first) {
                 if node.op == CsgOp::Leaf {
                     let start = spans.len();
                     if reaches(&node.bounds(), ray, inv_dir, t_lo, t_hi) {

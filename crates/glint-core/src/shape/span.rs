@@ -63,7 +63,7 @@ pub(crate) fn quadratic_spans(a: f64, b: f64, c: f64, part: u32) -> ([Span; 2], 
         };
     }
     let discriminant = b.mul_add(b, -4.0 * a * c);
-    if !(discriminant > 0.0) {
+    if discriminant.is_nan() || discriminant <= 0.0 {
         // No two distinct roots: the sign of `a` everywhere (a tangent touches, no span).
         return if a < 0.0 { ([Span::ALL; 2], 1) } else { (none, 0) };
     }

@@ -18,6 +18,7 @@ mod model;
 mod textures;
 mod xml;
 
+use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
 use crate::detect::{Loaded, SceneFormat};
@@ -147,13 +148,14 @@ impl Source {
 #[derive(Default)]
 pub(crate) struct Warnings {
     list: Vec<String>,
+    seen: HashSet<String>,
 }
 
 impl Warnings {
     /// Adds `file:line:col: message`.
     pub fn at(&mut self, src: &Source, pos: Pos, message: impl AsRef<str>) {
         let text = format!("{}: {}", src.origin(pos), message.as_ref());
-        if !self.list.contains(&text) {
+        if self.seen.insert(text.clone()) {
             self.list.push(text);
         }
     }

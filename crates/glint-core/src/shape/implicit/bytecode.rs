@@ -285,19 +285,19 @@ impl Arith for DualInterval {
         DualInterval::constant(c)
     }
     fn add(self, o: Self) -> Self {
-        DualInterval::add(self, o)
+        self + o
     }
     fn sub(self, o: Self) -> Self {
-        DualInterval::sub(self, o)
+        self - o
     }
     fn mul(self, o: Self) -> Self {
-        DualInterval::mul(self, o)
+        self * o
     }
     fn div(self, o: Self) -> Self {
-        DualInterval::div(self, o)
+        self / o
     }
     fn neg(self) -> Self {
-        DualInterval::neg(self)
+        -self
     }
     fn powi(self, n: u32) -> Self {
         DualInterval::powi(self, n)

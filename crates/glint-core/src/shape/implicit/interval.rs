@@ -8,6 +8,7 @@
 //! undefined operation can only make the solver look closer, never skip a root.
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
+use std::ops::{Add, Div, Mul, Neg, Sub};
 
 /// The closed interval `[lo, hi]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -100,32 +101,6 @@ impl Interval {
         Interval::outward(a.min(b), a.max(b), 1)
     }
 
-    #[inline]
-    pub fn add(self, o: Interval) -> Interval {
-        Interval::outward(self.lo + o.lo, self.hi + o.hi, 1)
-    }
-
-    #[inline]
-    pub fn sub(self, o: Interval) -> Interval {
-        Interval::outward(self.lo - o.hi, self.hi - o.lo, 1)
-    }
-
-    #[inline]
-    pub fn neg(self) -> Interval {
-        Interval { lo: -self.hi, hi: -self.lo }
-    }
-
-    #[inline]
-    pub fn mul(self, o: Interval) -> Interval {
-        let p = [mul_end(self.lo, o.lo), mul_end(self.lo, o.hi), mul_end(self.hi, o.lo), mul_end(self.hi, o.hi)];
-        let lo = p.iter().copied().fold(f64::INFINITY, f64::min);
-        let hi = p.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        if p.iter().any(|x| x.is_nan()) {
-            return Interval::new(f64::NAN, f64::NAN);
-        }
-        Interval::outward(lo, hi, 1)
-    }
-
     /// `1/self`; everything when the divisor may be zero.
     #[inline]
     pub fn recip(self) -> Interval {
@@ -133,14 +108,6 @@ impl Interval {
             return Interval::ENTIRE;
         }
         Interval::outward(1.0 / self.hi, 1.0 / self.lo, 1)
-    }
-
-    #[inline]
-    pub fn div(self, o: Interval) -> Interval {
-        if o.contains_zero() {
-            return Interval::ENTIRE;
-        }
-        self.mul(o.recip())
     }
 
     /// `selfⁿ` for an integer `n ≥ 0`, exact in shape (an even power of an interval
@@ -178,7 +145,7 @@ impl Interval {
         if self.lo >= 0.0 {
             self
         } else if self.hi <= 0.0 {
-            self.neg()
+            -self
         } else {
             Interval { lo: 0.0, hi: (-self.lo).max(self.hi) }
         }
@@ -213,7 +180,8 @@ impl Interval {
     /// A sine-like function with its maxima at `crest + 2kπ` and minima half a period on.
     fn periodic(self, f: fn(f64) -> f64, crest: f64) -> Interval {
         // Beyond 2^50 the spacing of f64 exceeds the period: no useful bound.
-        if !(self.hi - self.lo < TAU) || self.lo.abs().max(self.hi.abs()) > 1.0e15 {
+        let width = self.hi - self.lo;
+        if width.is_nan() || width >= TAU || self.lo.abs().max(self.hi.abs()) > 1.0e15 {
             return Interval::new(-1.0, 1.0);
         }
         let (a, b) = (f(self.lo), f(self.hi));
@@ -233,6 +201,56 @@ impl Interval {
         }
         let widened = Interval::outward(lo, hi, 2);
         Interval { lo: widened.lo.max(-1.0), hi: widened.hi.min(1.0) }
+    }
+}
+
+impl Add for Interval {
+    type Output = Interval;
+    #[inline]
+    fn add(self, o: Interval) -> Interval {
+        Interval::outward(self.lo + o.lo, self.hi + o.hi, 1)
+    }
+}
+
+impl Sub for Interval {
+    type Output = Interval;
+    #[inline]
+    fn sub(self, o: Interval) -> Interval {
+        Interval::outward(self.lo - o.hi, self.hi - o.lo, 1)
+    }
+}
+
+impl Neg for Interval {
+    type Output = Interval;
+    #[inline]
+    fn neg(self) -> Interval {
+        Interval { lo: -self.hi, hi: -self.lo }
+    }
+}
+
+impl Mul for Interval {
+    type Output = Interval;
+    #[inline]
+    fn mul(self, o: Interval) -> Interval {
+        let p = [mul_end(self.lo, o.lo), mul_end(self.lo, o.hi), mul_end(self.hi, o.lo), mul_end(self.hi, o.hi)];
+        if p.iter().any(|x| x.is_nan()) {
+            return Interval::new(f64::NAN, f64::NAN);
+        }
+        let lo = p.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = p.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        Interval::outward(lo, hi, 1)
+    }
+}
+
+impl Div for Interval {
+    type Output = Interval;
+    /// Everything when the divisor may be zero.
+    #[inline]
+    fn div(self, o: Interval) -> Interval {
+        if o.contains_zero() {
+            return Interval::ENTIRE;
+        }
+        Mul::mul(self, o.recip())
     }
 }
 
@@ -260,44 +278,24 @@ impl DualInterval {
         Interval::new(-m, m)
     }
 
-    pub fn add(self, o: Self) -> Self {
-        DualInterval { v: self.v.add(o.v), d: self.d.add(o.d) }
-    }
-
-    pub fn sub(self, o: Self) -> Self {
-        DualInterval { v: self.v.sub(o.v), d: self.d.sub(o.d) }
-    }
-
-    pub fn neg(self) -> Self {
-        DualInterval { v: self.v.neg(), d: self.d.neg() }
-    }
-
-    pub fn mul(self, o: Self) -> Self {
-        DualInterval { v: self.v.mul(o.v), d: self.v.mul(o.d).add(self.d.mul(o.v)) }
-    }
-
     pub fn recip(self) -> Self {
         let r = self.v.recip();
         // (1/u)′ = −u′/u²
-        DualInterval { v: r, d: self.d.neg().mul(r.mul(r)) }
-    }
-
-    pub fn div(self, o: Self) -> Self {
-        self.mul(o.recip())
+        DualInterval { v: r, d: -self.d * (r * r) }
     }
 
     pub fn powi(self, n: u32) -> Self {
         if n == 0 {
             return DualInterval::constant(1.0);
         }
-        let d = Interval::point(n as f64).mul(self.v.powi(n - 1)).mul(self.d);
+        let d = Interval::point(n as f64) * self.v.powi(n - 1) * self.d;
         DualInterval { v: self.v.powi(n), d }
     }
 
     pub fn sqrt(self) -> Self {
         let v = self.v.sqrt();
         // Where the argument may be ≤ 0 the slope is unbounded (or 0 after the clamp).
-        let d = if self.v.lo > 0.0 { self.d.mul(Interval::point(2.0).mul(v).recip()) } else { Interval::ENTIRE };
+        let d = if self.v.lo > 0.0 { self.d * (Interval::point(2.0) * v).recip() } else { Interval::ENTIRE };
         DualInterval { v, d }
     }
 
@@ -305,23 +303,23 @@ impl DualInterval {
         if self.v.lo > 0.0 {
             self
         } else if self.v.hi < 0.0 {
-            self.neg()
+            -self
         } else {
             DualInterval { v: self.v.abs(), d: Self::both_signs(self.d) }
         }
     }
 
     pub fn sin(self) -> Self {
-        DualInterval { v: self.v.sin(), d: self.v.cos().mul(self.d) }
+        DualInterval { v: self.v.sin(), d: self.v.cos() * self.d }
     }
 
     pub fn cos(self) -> Self {
-        DualInterval { v: self.v.cos(), d: self.v.sin().neg().mul(self.d) }
+        DualInterval { v: self.v.cos(), d: -self.v.sin() * self.d }
     }
 
     pub fn exp(self) -> Self {
         let v = self.v.exp();
-        DualInterval { v, d: v.mul(self.d) }
+        DualInterval { v, d: v * self.d }
     }
 
     pub fn min(self, o: Self) -> Self {
@@ -342,6 +340,41 @@ impl DualInterval {
         } else {
             DualInterval { v: self.v.max(o.v), d: self.d.hull(o.d) }
         }
+    }
+}
+
+impl Add for DualInterval {
+    type Output = Self;
+    fn add(self, o: Self) -> Self {
+        DualInterval { v: self.v + o.v, d: self.d + o.d }
+    }
+}
+
+impl Sub for DualInterval {
+    type Output = Self;
+    fn sub(self, o: Self) -> Self {
+        DualInterval { v: self.v - o.v, d: self.d - o.d }
+    }
+}
+
+impl Neg for DualInterval {
+    type Output = Self;
+    fn neg(self) -> Self {
+        DualInterval { v: -self.v, d: -self.d }
+    }
+}
+
+impl Mul for DualInterval {
+    type Output = Self;
+    fn mul(self, o: Self) -> Self {
+        DualInterval { v: self.v * o.v, d: self.v * o.d + self.d * o.v }
+    }
+}
+
+impl Div for DualInterval {
+    type Output = Self;
+    fn div(self, o: Self) -> Self {
+        Mul::mul(self, o.recip())
     }
 }
 
@@ -377,8 +410,8 @@ mod tests {
                 check("powi", i.powi(n), &|x: f64| x.powi(n as i32));
             }
             let j = Interval::new(0.5, 1.5);
-            check("mul", i.mul(j), &|x| x * 0.75);
-            check("div", i.div(j), &|x| x / 0.75);
+            check("mul", i * j, &|x| x * 0.75);
+            check("div", i / j, &|x| x / 0.75);
         }
     }
 
@@ -394,7 +427,7 @@ mod tests {
 
     #[test]
     fn division_by_an_interval_around_zero_is_everything() {
-        assert_eq!(Interval::new(1.0, 2.0).div(Interval::new(-1.0, 1.0)), Interval::ENTIRE);
+        assert_eq!(Interval::new(1.0, 2.0) / Interval::new(-1.0, 1.0), Interval::ENTIRE);
         assert!(Interval::new(f64::NAN, f64::NAN).contains_zero());
     }
 

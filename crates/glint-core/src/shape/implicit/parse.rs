@@ -295,9 +295,14 @@ impl Parser<'_> {
                 self.expect_op(')', "')'")
             }
             Tok::Name(name) => match name.as_str() {
-                "x" => Ok(self.emit(OpCode::X)),
-                "y" => Ok(self.emit(OpCode::Y)),
-                "z" => Ok(self.emit(OpCode::Z)),
+                axis @ ("x" | "y" | "z") => {
+                    self.emit(match axis {
+                        "x" => OpCode::X,
+                        "y" => OpCode::Y,
+                        _ => OpCode::Z,
+                    });
+                    Ok(())
+                }
                 "pi" => {
                     self.code.push(ImplicitOp { code: OpCode::Const, arg: std::f32::consts::PI });
                     Ok(())

@@ -32,11 +32,18 @@ pub fn inside(v: f64) -> bool {
 /// Most bisection levels; `2⁻⁴⁰` of the segment is far below float resolution.
 const MAX_DEPTH: u32 = 40;
 
+/// Most enclosures evaluated for one segment. A typical ray needs a few dozen; a function
+/// that is exactly 0 on a whole region (`max(f, 0)`) would otherwise be split down to the
+/// resolution everywhere there. Past the budget, pieces are no longer split but still
+/// checked for a sign change at their ends, so the search always ends, at a coarser
+/// resolution.
+const MAX_ENCLOSURES: u32 = 1 << 14;
+
 /// Calls `visit(t, entering)` for each sign change of `f` in `[t0, t1]`, in increasing
 /// order, until `visit` returns `false`. `entering` is true when `f` goes from outside
 /// (≥ 0) to inside (< 0).
 pub fn crossings(f: &impl RayFunction, t0: f64, t1: f64, mut visit: impl FnMut(f64, bool) -> bool) {
-    if !(t0 < t1) || !t0.is_finite() || !t1.is_finite() {
+    if !(t0.is_finite() && t1.is_finite()) || t0 >= t1 {
         return;
     }
     // Resolution: a float's worth of the segment or of the parameter's magnitude.
@@ -45,29 +52,36 @@ pub fn crossings(f: &impl RayFunction, t0: f64, t1: f64, mut visit: impl FnMut(f
     let mut stack = [(0.0, 0.0, 0.0, 0.0, 0u32); MAX_DEPTH as usize + 2];
     stack[0] = (t0, t1, f.value(t0), f.value(t1), 0);
     let mut top = 1;
+    let mut budget = MAX_ENCLOSURES;
     while top > 0 {
         top -= 1;
         let (a, b, fa, fb, depth) = stack[top];
-        let e = f.enclose(Interval::new(a, b));
-        if !e.v.contains_zero() {
-            continue;
+        let exhausted = budget == 0;
+        if !exhausted {
+            budget -= 1;
+            let e = f.enclose(Interval::new(a, b));
+            if !e.v.contains_zero() {
+                continue;
+            }
+            if e.d.contains_zero() && b - a > resolution && depth < MAX_DEPTH {
+                let m = 0.5 * (a + b);
+                let fm = f.value(m);
+                // Far half below the near half on the stack, so the near half comes out first.
+                stack[top] = (m, b, fm, fb, depth + 1);
+                stack[top + 1] = (a, m, fa, fm, depth + 1);
+                top += 2;
+                continue;
+            }
         }
-        let monotonic = !e.d.contains_zero();
-        if monotonic || b - a <= resolution || depth >= MAX_DEPTH {
+        // Monotonic, at the resolution, or out of budget: one crossing iff the ends differ.
+        {
             if inside(fa) != inside(fb) {
                 let root = refine_root(|t| f.value(t), a, b, fa, fb);
                 if !visit(root, inside(fb)) {
                     return;
                 }
             }
-            continue;
         }
-        let m = 0.5 * (a + b);
-        let fm = f.value(m);
-        // Far half below the near half on the stack, so the near half comes out first.
-        stack[top] = (m, b, fm, fb, depth + 1);
-        stack[top + 1] = (a, m, fa, fm, depth + 1);
-        top += 2;
     }
 }
 
@@ -87,7 +101,7 @@ mod tests {
         fn enclose(&self, t: Interval) -> DualInterval {
             let var = DualInterval { v: t, d: Interval::point(1.0) };
             let c = |x: f64| DualInterval::constant(x);
-            var.sub(c(1.0)).mul(var.sub(c(1.0 + self.gap))).mul(var.sub(c(5.0)))
+            (var - c(1.0)) * (var - c(1.0 + self.gap)) * (var - c(5.0))
         }
     }
 
@@ -107,6 +121,38 @@ mod tests {
             // f < 0 before 1, so the first crossing leaves the inside.
             assert_eq!(found.iter().map(|f| f.1).collect::<Vec<_>>(), [false, true, false]);
         }
+    }
+
+    /// `max(t − 3, 0) − 2·max(t − 5, 0)`: exactly 0 on all of [−10, 3], where every
+    /// piece may hold a root, then a bump that falls through 0 at t = 7.
+    struct FlatRegion;
+
+    impl FlatRegion {
+        fn eval(t: DualInterval) -> DualInterval {
+            let c = DualInterval::constant;
+            (t - c(3.0)).max(c(0.0)) - c(2.0) * (t - c(5.0)).max(c(0.0))
+        }
+    }
+
+    impl RayFunction for FlatRegion {
+        fn value(&self, t: f64) -> f64 {
+            (t - 3.0).max(0.0) - 2.0 * (t - 5.0).max(0.0)
+        }
+        fn enclose(&self, t: Interval) -> DualInterval {
+            Self::eval(DualInterval { v: t, d: Interval::point(1.0) })
+        }
+    }
+
+    #[test]
+    fn a_function_flat_at_zero_ends_in_bounded_time() {
+        let mut found = Vec::new();
+        crossings(&FlatRegion, -10.0, 10.0, |t, entering| {
+            found.push((t, entering));
+            true
+        });
+        // Zero counts as outside: the only sign change is the entry at 7.
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert!((found[0].0 - 7.0).abs() < 1e-12 && found[0].1, "{found:?}");
     }
 
     #[test]

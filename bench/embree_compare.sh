@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# glint's mesh BVH against Embree (through the embreex Python bindings) on the same
+# ~1M-triangle mesh and the same rays: build time and rays per CPU-second for coherent
+# (camera) and incoherent (random) rays, closest hit and any hit, as glint/Embree ratios.
+# The obvhs column is the obvhs crate's CWBVH over the same triangles, with glint's triangle test.
+#
+# Usage: bench/embree_compare.sh [work dir, default /tmp/glint-embree-bench]
+# Needs python3 with venv and network access the first time (pip install embreex numpy).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+work="${1:-/tmp/glint-embree-bench}"
+venv=/tmp/glint-embree-venv
+mkdir -p "$work"
+if [ ! -x "$venv/bin/python" ]; then
+    python3 -m venv "$venv"
+    "$venv/bin/pip" install -q "embreex==4.4.0.post1" numpy
+fi
+cargo build -q --release -p glint-cli --example mesh_bench
+echo "generating the mesh and rays, timing Embree…" >&2
+embree=$("$venv/bin/python" bench/embree_compare.py "$work")
+echo "timing glint…" >&2
+glint=$(target/release/examples/mesh_bench "$work/scene.bin")
+"$venv/bin/python" - "$embree" "$glint" <<'PY'
+import json, sys
+e, g = json.loads(sys.argv[1]), json.loads(sys.argv[2])
+print(f"{g['triangles']} triangles; one thread; best of 3; CPU seconds")
+print(f"{'measure':30} {'glint':>8} {'obvhs':>8} {'Embree':>8} {'glint/Embree':>13} {'obvhs/Embree':>13}")
+def row(name, key, scale, unit):
+    a, o, b = g[key] / scale, g["obvhs_" + key] / scale, e[key] / scale
+    print(f"{name:30} {a:>8.3f} {o:>8.3f} {b:>8.3f} {a / b:>13.2f} {o / b:>13.2f}   {unit}")
+row("BVH build", "build_s", 1, "s (lower is better)")
+for kind in ["coherent", "incoherent"]:
+    for query, label in [("closest", "closest hit"), ("any", "any hit")]:
+        row(f"{kind} rays, {label}", f"{kind}_{query}_rays_per_s", 1e6, "Mrays/s (higher is better)")
+for kind in ["coherent", "incoherent"]:
+    print(f"{kind}: hit fraction glint {g[kind + '_hit_fraction']:.4f} / obvhs {g['obvhs_' + kind + '_hit_fraction']:.4f}"
+          f" / Embree {e[kind + '_hit_fraction']:.4f}; rays whose closest hit differs from Embree's: "
+          f"{g[kind + '_disagree_with_embree']}")
+PY
