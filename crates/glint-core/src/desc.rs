@@ -112,11 +112,14 @@ pub struct Features {
     pub reflections: bool,
     pub refractions: bool,
     pub textures: bool,
+    /// Transparent occluders filter shadow rays by their `k_t·O_t` (off: every occluder
+    /// is opaque, as the course's ray tracer has it).
+    pub transparent_shadows: bool,
 }
 
 impl Default for Features {
     fn default() -> Self {
-        Self { shadows: true, reflections: true, refractions: true, textures: true }
+        Self { shadows: true, reflections: true, refractions: true, textures: true, transparent_shadows: true }
     }
 }
 

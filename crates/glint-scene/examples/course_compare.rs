@@ -195,7 +195,13 @@ fn setup(root: &Path, scene: &str, all_lights: bool) -> Setup {
     let stem = Path::new(scene).file_stem().and_then(|s| s.to_str()).unwrap_or_default();
     let intersect = scene.starts_with("json/intersect/");
     let mut s = Setup {
-        features: Features { shadows: true, reflections: true, refractions: false, textures: true },
+        features: Features {
+            shadows: true,
+            reflections: true,
+            refractions: false,
+            textures: true,
+            transparent_shadows: false,
+        },
         max_depth: COURSE_MAX_DEPTH,
         width: 1024,
         height: 768,
@@ -212,7 +218,13 @@ fn setup(root: &Path, scene: &str, all_lights: bool) -> Setup {
             return s;
         }
         if intersect {
-            s.features = Features { shadows: false, reflections: false, refractions: false, textures: false };
+            s.features = Features {
+                shadows: false,
+                reflections: false,
+                refractions: false,
+                textures: false,
+                transparent_shadows: false,
+            };
             s.source = "intersect defaults (all features off)".into();
         } else {
             s.features.refractions = scene.contains("refract");

@@ -24,7 +24,8 @@ fn data(path: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/course").join(path)
 }
 
-const ILLUMINATE: Features = Features { shadows: true, reflections: true, refractions: false, textures: true };
+const ILLUMINATE: Features =
+    Features { shadows: true, reflections: true, refractions: false, textures: true, transparent_shadows: false };
 
 /// Renders `scene` at 128×96 (8×8 samples per pixel) with `features` and compares it
 /// with `reference-128x96.png`.
@@ -67,7 +68,13 @@ fn check(scene: &str, reference: &str, features: Features, directional_only: boo
 
 #[test]
 fn unit_cone_matches_the_intersect_reference() {
-    let off = Features { shadows: false, reflections: false, refractions: false, textures: false };
+    let off = Features {
+        shadows: false,
+        reflections: false,
+        refractions: false,
+        textures: false,
+        transparent_shadows: false,
+    };
     check("json/intersect/required/unit_cone.json", "unit_cone", off, true);
 }
 

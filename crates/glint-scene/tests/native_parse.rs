@@ -72,7 +72,13 @@ fn settings_properties() {
             min_contribution: 0.01,
             background: Vec3::new(0.1, 0.2, 0.3),
             ambient_light: Vec3::splat(0.25),
-            features: Features { shadows: false, reflections: true, refractions: false, textures: false },
+            features: Features {
+                shadows: false,
+                reflections: true,
+                refractions: false,
+                textures: false,
+                transparent_shadows: true
+            },
             output_transfer: Transfer::Identity,
             ..RenderSettings::default()
         }

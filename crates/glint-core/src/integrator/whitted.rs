@@ -78,7 +78,14 @@ fn direct_lighting(scene: &RenderScene, hit: &Hit, m: &Material, n: Vec3, v: Vec
             }
             let filter = if features.shadows {
                 ctx.counters.rays += 1;
-                scene.transmittance(&Ray::new(shadow_origin, incidence.to_light), incidence.distance)
+                let shadow_ray = Ray::new(shadow_origin, incidence.to_light);
+                if features.transparent_shadows {
+                    scene.transmittance(&shadow_ray, incidence.distance)
+                } else if scene.occluded(&shadow_ray, incidence.distance) {
+                    Vec3::ZERO
+                } else {
+                    Vec3::ONE
+                }
             } else {
                 Vec3::ONE
             };

@@ -14,7 +14,7 @@ use std::collections::HashMap;
 
 use glam::{Mat4, Vec2, Vec3};
 use glint_core::desc::{
-    CameraDesc, LightDesc, MaterialDesc, NodeDesc, NodeKind, RenderSettings, SceneDesc, ShapeDesc, Transfer,
+    CameraDesc, Features, LightDesc, MaterialDesc, NodeDesc, NodeKind, RenderSettings, SceneDesc, ShapeDesc, Transfer,
     TransformOp,
 };
 
@@ -87,6 +87,8 @@ pub fn course_settings() -> RenderSettings {
         background: Vec3::ZERO,
         ambient_light: Vec3::ONE,
         output_transfer: Transfer::Identity,
+        // The course's shadow rays stop at any object, transparent or not.
+        features: Features { transparent_shadows: false, ..Features::default() },
         ..RenderSettings::default()
     }
 }

@@ -16,7 +16,7 @@ pub const MAX_SAMPLES_PER_AXIS: u32 = 64;
 /// Deepest recursion accepted for `max_depth`.
 pub const MAX_DEPTH: u32 = 64;
 
-const SETTINGS_PROPERTIES: [&str; 17] = [
+const SETTINGS_PROPERTIES: [&str; 18] = [
     "width",
     "height",
     "samples",
@@ -28,6 +28,7 @@ const SETTINGS_PROPERTIES: [&str; 17] = [
     "reflections",
     "refractions",
     "textures",
+    "transparent_shadows",
     "output_transfer",
     "pattern",
     "filter",
@@ -60,6 +61,7 @@ pub fn settings(src: &Source, node: &Node, settings: &mut RenderSettings) -> Res
             "reflections" => settings.features.reflections = args::boolean(src, prop)?,
             "refractions" => settings.features.refractions = args::boolean(src, prop)?,
             "textures" => settings.features.textures = args::boolean(src, prop)?,
+            "transparent_shadows" => settings.features.transparent_shadows = args::boolean(src, prop)?,
             "pattern" => settings.pattern = pattern(src, prop)?,
             "filter" => settings.filter.kind = filter_kind(src, prop)?,
             "filter_radius" => {

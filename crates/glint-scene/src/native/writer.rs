@@ -132,6 +132,7 @@ impl Writer {
             format!("reflections {}", s.features.reflections),
             format!("refractions {}", s.features.refractions),
             format!("textures {}", s.features.textures),
+            format!("transparent_shadows {}", s.features.transparent_shadows),
             format!("output_transfer \"{transfer}\""),
             format!("pattern \"{pattern}\""),
             format!("filter \"{filter}\""),
