@@ -328,4 +328,8 @@ pub enum NodeKind {
     Group(Vec<NodeDesc>),
     /// CSG, blobs, implicit surfaces, quadrics, superellipsoids: see [`SolidDesc`].
     Solid(SolidDesc),
+    /// Children that move during the shutter interval (motion blur): the node's own
+    /// `transform` is its pose at shutter open, `close` its pose at shutter close; in
+    /// between, scale and translation are interpolated linearly and rotation by slerp.
+    Moving { close: Vec<TransformOp>, children: Vec<NodeDesc> },
 }

@@ -204,7 +204,11 @@ fn trace_film_point(scene: &RenderScene, fx: f32, fy: f32, lens: Vec2, ctx: &mut
     // Screen space to the film plane: x, y in [−1, 1], +y up.
     let x = 2.0 * fx / s.width as f32 - 1.0;
     let y = 1.0 - 2.0 * fy / s.height as f32;
-    let ray = scene.camera.ray(x, y, lens);
+    let mut ray = scene.camera.ray(x, y, lens);
+    if !scene.motions.is_empty() {
+        // A moment in the shutter interval, for motion blur.
+        ray.time = ctx.rng.next_f32();
+    }
     let value = whitted::radiance(scene, &ray, 0, Vec3::ONE, ctx);
     if value.is_finite() { value } else { Vec3::ZERO }
 }

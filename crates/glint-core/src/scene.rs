@@ -1,5 +1,7 @@
 //! The compiled render scene and [`compile`], which builds it from a [`SceneDesc`].
 
+use std::borrow::Cow;
+
 use bytemuck::NoUninit;
 use glam::{Mat4, Vec2, Vec3};
 
@@ -13,8 +15,11 @@ use crate::mesh::Mesh;
 use crate::sampling::{Filter, PixelSampler};
 use crate::shape::{Shape, ShapeKind, ShapeTables};
 
+mod motion;
 mod solids;
+
 use crate::texture::Texture;
+pub use motion::{Motion, NO_MOTION, Pose};
 
 /// One placed primitive: the shape, where it is (`M` and `M⁻¹`) and what it is made of.
 #[repr(C)]
@@ -23,7 +28,8 @@ pub struct Instance {
     pub transform: Transform,
     pub shape: Shape,
     pub material: u32,
-    pub _pad: u32,
+    /// Index into [`RenderScene::motions`], or [`NO_MOTION`] for an instance that stays put.
+    pub motion: u32,
 }
 
 /// The render settings after validation.
@@ -59,6 +65,8 @@ pub struct RenderScene {
     /// Flat records of CSG trees, blobs, implicit surfaces, quadrics and
     /// superellipsoids; their instances' shapes index into it.
     pub shape_tables: ShapeTables,
+    /// How moving instances move; `Instance::motion` indexes into it.
+    pub motions: Vec<Motion>,
     pub materials: Vec<Material>,
     pub lights: Vec<Light>,
     pub textures: Vec<Texture>,
@@ -151,18 +159,24 @@ pub fn compile(desc: &SceneDesc) -> Result<RenderScene, CompileError> {
         .iter()
         .map(|m| Mesh::compile(m).map_err(|e| invalid(&format!("mesh '{}'", m.name), e.to_string())))
         .collect::<Result<_, _>>()?;
-    let mut flat = Vec::new();
     let mut shape_tables = ShapeTables::default();
+    let mut flattener = Flattener {
+        material_count: desc.materials.len(),
+        instances: Vec::new(),
+        motions: Vec::new(),
+        tables: &mut shape_tables,
+    };
     for node in &desc.objects {
-        flatten(node, &Transform::IDENTITY, desc.materials.len(), &mut flat, &mut shape_tables)?;
+        flattener.flatten(node, &Transform::IDENTITY, None)?;
     }
+    let Flattener { instances: flat, motions, .. } = flattener;
     if let Some(inst) =
         flat.iter().find(|i| i.shape.kind == ShapeKind::Mesh && i.shape.mesh_index() as usize >= meshes.len())
     {
         let message = format!("mesh index {} out of range ({} meshes)", inst.shape.mesh_index(), meshes.len());
         return Err(invalid("mesh instance", message));
     }
-    let world_bounds = |inst: &Instance| instance_bounds(inst, &meshes, &shape_tables);
+    let world_bounds = |inst: &Instance| instance_bounds(inst, &meshes, &shape_tables, &motions);
     let (bounded, unbounded): (Vec<_>, Vec<_>) = flat.into_iter().partition(|inst| world_bounds(inst).is_finite());
     let boxes: Vec<Aabb> = bounded.iter().map(world_bounds).collect();
     let (bvh, order) = Bvh::build(&boxes);
@@ -179,6 +193,7 @@ pub fn compile(desc: &SceneDesc) -> Result<RenderScene, CompileError> {
         bvh,
         meshes,
         shape_tables,
+        motions,
         materials,
         lights,
         textures,
@@ -266,38 +281,94 @@ fn node_transform(ops: &[TransformOp], origin: &str) -> Result<Transform, Compil
     })
 }
 
-fn flatten(
-    node: &NodeDesc,
-    parent: &Transform,
+/// Collects the instances of the transform tree.
+struct Flattener<'a> {
     material_count: usize,
-    out: &mut Vec<Instance>,
-    tables: &mut ShapeTables,
-) -> Result<(), CompileError> {
-    let transform = node_transform(&node.transform, &node.origin)?.then(parent);
-    if !(transform.world_from_object.is_finite() && transform.object_from_world.is_finite()) {
-        return Err(invalid(&node.origin, "the accumulated transform overflows"));
+    instances: Vec<Instance>,
+    motions: Vec<Motion>,
+    tables: &'a mut ShapeTables,
+}
+
+/// A moving node the nodes being flattened are inside: where it is and its two poses.
+struct MovingNode {
+    outer: Transform,
+    open: Transform,
+    open_pose: Pose,
+    close_pose: Pose,
+}
+
+impl Flattener<'_> {
+    /// Flattens `node` under `parent`: the accumulated transform to world space, or to
+    /// the enclosing moving node's space when `moving` is set.
+    fn flatten(
+        &mut self,
+        node: &NodeDesc,
+        parent: &Transform,
+        moving: Option<&MovingNode>,
+    ) -> Result<(), CompileError> {
+        let local = node_transform(&node.transform, &node.origin)?;
+        let transform = local.then(parent);
+        if !(transform.world_from_object.is_finite() && transform.object_from_world.is_finite()) {
+            return Err(invalid(&node.origin, "the accumulated transform overflows"));
+        }
+        match &node.kind {
+            NodeKind::Group(children) => {
+                for child in children {
+                    self.flatten(child, &transform, moving)?;
+                }
+            }
+            NodeKind::Shape { shape, material } => {
+                if *material >= self.material_count {
+                    return Err(invalid(&node.origin, format!("material index {material} out of range")));
+                }
+                let shape = shape_record(shape, &node.origin)?;
+                self.place(Instance { transform, shape, material: *material as u32, motion: NO_MOTION }, moving);
+            }
+            NodeKind::Solid(solid) => {
+                // An empty solid (disjoint intersection) places nothing.
+                if let Some((shape, material)) =
+                    solids::compile_solid(solid, &node.origin, self.material_count, self.tables)?
+                {
+                    self.place(Instance { transform, shape, material, motion: NO_MOTION }, moving);
+                }
+            }
+            NodeKind::Moving { close, children } => {
+                if moving.is_some() {
+                    return Err(invalid(&node.origin, "a moving node cannot be inside another moving node"));
+                }
+                let close = node_transform(close, &node.origin)?;
+                let (Some(open_pose), Some(close_pose)) = (Pose::from_transform(&local), Pose::from_transform(&close))
+                else {
+                    return Err(invalid(
+                        &node.origin,
+                        "a moving node's poses must be scale, rotation and translation (no shear)",
+                    ));
+                };
+                if (open_pose.scale * close_pose.scale).cmple(Vec3::ZERO).any() {
+                    return Err(invalid(
+                        &node.origin,
+                        "a moving node's scale cannot change sign (it would pass through zero)",
+                    ));
+                }
+                let frame = MovingNode { outer: *parent, open: local, open_pose, close_pose };
+                for child in children {
+                    self.flatten(child, &Transform::IDENTITY, Some(&frame))?;
+                }
+            }
+        }
+        Ok(())
     }
-    match &node.kind {
-        NodeKind::Group(children) => {
-            for child in children {
-                flatten(child, &transform, material_count, out, tables)?;
-            }
+
+    /// Adds an instance whose transform is relative to `moving` (if any).
+    fn place(&mut self, mut instance: Instance, moving: Option<&MovingNode>) {
+        if let Some(m) = moving {
+            let inner = instance.transform;
+            instance.transform = inner.then(&m.open).then(&m.outer);
+            instance.motion = self.motions.len() as u32;
+            self.motions.push(Motion { inner, outer: m.outer, open: m.open_pose, close: m.close_pose });
         }
-        NodeKind::Shape { shape, material } => {
-            if *material >= material_count {
-                return Err(invalid(&node.origin, format!("material index {material} out of range")));
-            }
-            let shape = shape_record(shape, &node.origin)?;
-            out.push(Instance { transform, shape, material: *material as u32, _pad: 0 });
-        }
-        NodeKind::Solid(solid) => {
-            // An empty solid (disjoint intersection) places nothing.
-            if let Some((shape, material)) = solids::compile_solid(solid, &node.origin, material_count, tables)? {
-                out.push(Instance { transform, shape, material, _pad: 0 });
-            }
-        }
+        self.instances.push(instance);
     }
-    Ok(())
 }
 
 /// The record of a canonical primitive, its parameters validated.
@@ -319,7 +390,7 @@ fn shape_record(shape: &ShapeDesc, origin: &str) -> Result<Shape, CompileError> 
     })
 }
 
-fn instance_bounds(inst: &Instance, meshes: &[Mesh], tables: &ShapeTables) -> Aabb {
+fn instance_bounds(inst: &Instance, meshes: &[Mesh], tables: &ShapeTables, motions: &[Motion]) -> Aabb {
     let b = match inst.shape.kind {
         ShapeKind::Mesh => meshes[inst.shape.mesh_index() as usize].bounds(),
         _ => inst.shape.bounds_with(tables),
@@ -327,7 +398,10 @@ fn instance_bounds(inst: &Instance, meshes: &[Mesh], tables: &ShapeTables) -> Aa
     if !b.is_finite() {
         return Aabb::new(Vec3::NEG_INFINITY, Vec3::INFINITY);
     }
-    b.transformed(&inst.transform.world_from_object)
+    match motions.get(inst.motion as usize) {
+        Some(motion) => motion.bounds(&b),
+        None => b.transformed(&inst.transform.world_from_object),
+    }
 }
 
 impl RenderScene {
@@ -337,7 +411,7 @@ impl RenderScene {
         let mut t_max = t_max;
         let mut test = |index: u32, t_max: &mut f32| {
             let inst = &self.instances[index as usize];
-            let local = inst.transform.ray_to_object(ray);
+            let local = self.transform_at(inst, ray.time).ray_to_object(ray);
             if let Some(hit) = self.intersect_shape(inst, &local, *t_max) {
                 *t_max = hit.t;
                 best = Some((index, hit));
@@ -350,7 +424,8 @@ impl RenderScene {
         }
         let (index, hit) = best?;
         let inst = &self.instances[index as usize];
-        let local = inst.transform.ray_to_object(ray);
+        let xf = self.transform_at(inst, ray.time);
+        let local = xf.ray_to_object(ray);
         let (surface, geometric, shadow_point) = match inst.shape.kind {
             ShapeKind::Mesh => {
                 let m = self.meshes[inst.shape.mesh_index() as usize].surface(&local, hit);
@@ -361,13 +436,13 @@ impl RenderScene {
                 (surface, surface.normal, surface.point)
             }
         };
-        let normal = inst.transform.normal_to_world(surface.normal).normalize_or(Vec3::Y);
+        let normal = xf.normal_to_world(surface.normal).normalize_or(Vec3::Y);
         Some(Hit {
             t: hit.t,
-            point: inst.transform.point_to_world(surface.point),
+            point: xf.point_to_world(surface.point),
             normal,
-            geometric_normal: inst.transform.normal_to_world(geometric).normalize_or(normal),
-            shadow_point: inst.transform.point_to_world(shadow_point),
+            geometric_normal: xf.normal_to_world(geometric).normalize_or(normal),
+            shadow_point: xf.point_to_world(shadow_point),
             uv: surface.uv,
             material: inst.shape.hit_material(&self.shape_tables, hit).unwrap_or(inst.material),
         })
@@ -377,7 +452,7 @@ impl RenderScene {
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         let hits = |index: u32, t_max: &mut f32| {
             let inst = &self.instances[index as usize];
-            let local = inst.transform.ray_to_object(ray);
+            let local = self.transform_at(inst, ray.time).ray_to_object(ray);
             match inst.shape.kind {
                 ShapeKind::Mesh => self.meshes[inst.shape.mesh_index() as usize].occluded(&local, *t_max),
                 _ => inst.shape.intersect_with(&self.shape_tables, &local, *t_max).is_some(),
@@ -425,6 +500,15 @@ impl RenderScene {
         match inst.shape.kind {
             ShapeKind::Mesh => self.meshes[inst.shape.mesh_index() as usize].intersect(local, t_max),
             _ => inst.shape.intersect_with(&self.shape_tables, local, t_max),
+        }
+    }
+
+    /// Where `inst` is at `time`: its fixed transform, or its pose interpolated.
+    #[inline]
+    fn transform_at<'a>(&self, inst: &'a Instance, time: f32) -> Cow<'a, Transform> {
+        match self.motions.get(inst.motion as usize) {
+            None => Cow::Borrowed(&inst.transform),
+            Some(motion) => Cow::Owned(motion.at(time)),
         }
     }
 

@@ -206,3 +206,54 @@ fn wide_filters_blend_neighbouring_pixels_and_keep_flat_regions_exact() {
         assert_ne!(filtered, boxed, "{kind:?} changes the edges");
     }
 }
+
+/// A flat white ball (ambient only) against black, as a group or moving from
+/// `open` to `close` during the shutter interval.
+fn moving_ball(open: Vec3, close: Option<Vec3>) -> SceneDesc {
+    let ball = node(ShapeDesc::Sphere, 0, vec![TransformOp::Scale(Vec3::splat(0.5))]);
+    let kind = match close {
+        Some(c) => NodeKind::Moving { close: vec![TransformOp::Translate(c)], children: vec![ball] },
+        None => NodeKind::Group(vec![ball]),
+    };
+    SceneDesc {
+        settings: RenderSettings {
+            width: 64,
+            height: 32,
+            samples_per_axis: 8,
+            pattern: SamplePattern::Jittered,
+            ambient_light: Vec3::ONE,
+            ..Default::default()
+        },
+        camera: CameraDesc {
+            eye: Vec3::new(0.0, 0.0, 6.0),
+            look: Vec3::NEG_Z,
+            up: Vec3::Y,
+            fov_y_degrees: 30.0,
+            ..Default::default()
+        },
+        lights: vec![],
+        materials: vec![MaterialDesc { ambient: Some(Vec3::ONE), ..matte(Vec3::ONE) }],
+        textures: vec![],
+        objects: vec![NodeDesc { transform: vec![TransformOp::Translate(open)], kind, origin: String::new() }],
+        ..Default::default()
+    }
+}
+
+#[test]
+fn motion_blur_smears_a_moving_ball_along_its_path() {
+    let still = run(&moving_ball(Vec3::ZERO, None)).0;
+    let moving = run(&moving_ball(Vec3::new(-1.0, 0.0, 0.0), Some(Vec3::new(1.0, 0.0, 0.0)))).0;
+    let partial = |image: &Image| (0..image.width).filter(|&x| (0.05..0.95).contains(&image.get(x, 16).x)).count();
+    assert!(partial(&still) <= 4, "a still ball has crisp edges: {}", partial(&still));
+    assert!(partial(&moving) > 12, "a moving ball is smeared: {}", partial(&moving));
+    // The ball is in the picture for the whole shutter: the same total brightness.
+    let total = |image: &Image| image.pixels.iter().map(|p| p.x).sum::<f32>();
+    assert!((total(&moving) / total(&still) - 1.0).abs() < 0.05, "{} vs {}", total(&moving), total(&still));
+}
+
+#[test]
+fn a_moving_node_that_does_not_move_renders_like_a_group() {
+    let group = run(&moving_ball(Vec3::new(0.3, 0.1, 0.0), None)).0;
+    let moving = run(&moving_ball(Vec3::new(0.3, 0.1, 0.0), Some(Vec3::new(0.3, 0.1, 0.0)))).0;
+    assert!(group.mean_abs_diff(&moving) < 1e-6);
+}

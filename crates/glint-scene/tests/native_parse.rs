@@ -20,13 +20,14 @@ fn shape_of(node: &NodeDesc) -> (ShapeDesc, usize) {
         NodeKind::Shape { shape, material } => (*shape, *material),
         NodeKind::Group(_) => panic!("expected a shape, found a group at {}", node.origin),
         NodeKind::Solid(_) => panic!("expected a shape, found a solid at {}", node.origin),
+        NodeKind::Moving { .. } => panic!("expected a shape, found a moving group at {}", node.origin),
     }
 }
 
 /// The children of a node that must be a group.
 fn children_of(node: &NodeDesc) -> &[NodeDesc] {
     match &node.kind {
-        NodeKind::Group(children) => children,
+        NodeKind::Group(children) | NodeKind::Moving { children, .. } => children,
         NodeKind::Shape { .. } => panic!("expected a group, found a shape at {}", node.origin),
         NodeKind::Solid(_) => panic!("expected a group, found a solid at {}", node.origin),
     }
@@ -105,6 +106,21 @@ fn camera_look_at_becomes_a_direction() {
             focal_distance: Vec3::new(0.0, -1.0, -8.0).length(),
         }
     );
+}
+
+#[test]
+fn moving_groups_have_an_open_and_a_close_pose() {
+    let scene = parse("moving { translate [1 0 0] close { translate [2 0 0] rotate [0 1 0] 90 } sphere { } }");
+    let NodeKind::Moving { close, children } = &scene.objects[0].kind else { panic!("expected a moving group") };
+    assert_eq!(scene.objects[0].transform, vec![TransformOp::Translate(Vec3::X)]);
+    assert_eq!(
+        close,
+        &vec![TransformOp::Translate(Vec3::new(2.0, 0.0, 0.0)), TransformOp::Rotate { axis: Vec3::Y, degrees: 90.0 }]
+    );
+    assert_eq!(shape_of(&children[0]).0, ShapeDesc::Sphere);
+    let err = parse_scene("moving { sphere { } }", "m.glint", Path::new(".")).unwrap_err();
+    assert_eq!((err.line, err.column), (1, 1));
+    assert!(err.message.contains("close"), "{err}");
 }
 
 #[test]
@@ -437,7 +453,7 @@ fn the_default_scene_is_a_whitted_composition() {
         .iter()
         .filter_map(|n| match n.kind {
             NodeKind::Shape { shape, .. } => Some(shape),
-            NodeKind::Group(_) | NodeKind::Solid(_) => None,
+            NodeKind::Group(_) | NodeKind::Solid(_) | NodeKind::Moving { .. } => None,
         })
         .collect();
     for wanted in [ShapeDesc::Plane, ShapeDesc::Cylinder, ShapeDesc::Cone, ShapeDesc::Cube] {

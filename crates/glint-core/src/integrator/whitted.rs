@@ -28,7 +28,7 @@ pub fn radiance(scene: &RenderScene, ray: &Ray, depth: u32, weight: Vec3, ctx: &
     // decides the side and carries the ray offsets; an interpolated mesh normal may lean.
     let entering = hit.geometric_normal.dot(d) < 0.0;
     let (n, ng) = if entering { (hit.normal, hit.geometric_normal) } else { (-hit.normal, -hit.geometric_normal) };
-    let mut color = direct_lighting(scene, &hit, material, n, -d, ctx);
+    let mut color = direct_lighting(scene, &hit, material, (n, -d), ray.time, ctx);
 
     if depth >= scene.settings.max_depth {
         return color;
@@ -38,7 +38,7 @@ pub fn radiance(scene: &RenderScene, ray: &Ray, depth: u32, weight: Vec3, ctx: &
     let features = scene.settings.features;
     let reflect_weight = weight * material.reflective;
     if features.reflections && worth_tracing(reflect_weight) {
-        let r = Ray::new(offset_ray_origin(hit.point, ng), reflected_dir);
+        let r = Ray::new(offset_ray_origin(hit.point, ng), reflected_dir).at_time(ray.time);
         color += material.reflective * radiance(scene, &r, depth + 1, reflect_weight, ctx);
     }
     let transmit_weight = weight * material.transmissive;
@@ -46,9 +46,9 @@ pub fn radiance(scene: &RenderScene, ray: &Ray, depth: u32, weight: Vec3, ctx: &
         let eta = if entering { 1.0 / material.ior } else { material.ior };
         let transmitted = if material.ior == 1.0 { Some(d) } else { refract(d, n, eta) };
         let r = match transmitted {
-            Some(t) => Ray::new(offset_ray_origin(hit.point, -ng), t),
+            Some(t) => Ray::new(offset_ray_origin(hit.point, -ng), t).at_time(ray.time),
             // Total internal reflection: the transmitted share is reflected instead.
-            None => Ray::new(offset_ray_origin(hit.point, ng), reflected_dir),
+            None => Ray::new(offset_ray_origin(hit.point, ng), reflected_dir).at_time(ray.time),
         };
         color += material.transmissive * radiance(scene, &r, depth + 1, transmit_weight, ctx);
     }
@@ -56,7 +56,15 @@ pub fn radiance(scene: &RenderScene, ray: &Ray, depth: u32, weight: Vec3, ctx: &
 }
 
 /// The non-recursive part: ambient plus every unshadowed light's diffuse and specular.
-fn direct_lighting(scene: &RenderScene, hit: &Hit, m: &Material, n: Vec3, v: Vec3, ctx: &mut TraceContext) -> Vec3 {
+/// `n` faces the viewer and `v` points to it; shadow rays travel at `time`.
+fn direct_lighting(
+    scene: &RenderScene,
+    hit: &Hit,
+    m: &Material,
+    (n, v): (Vec3, Vec3),
+    time: f32,
+    ctx: &mut TraceContext,
+) -> Vec3 {
     let features = scene.settings.features;
     let texel =
         (features.textures && m.texture != NO_TEXTURE).then(|| scene.texture(m.texture, hit.uv * m.texture_repeat));
@@ -78,7 +86,7 @@ fn direct_lighting(scene: &RenderScene, hit: &Hit, m: &Material, n: Vec3, v: Vec
             }
             let filter = if features.shadows {
                 ctx.counters.rays += 1;
-                let shadow_ray = Ray::new(shadow_origin, incidence.to_light);
+                let shadow_ray = Ray::new(shadow_origin, incidence.to_light).at_time(time);
                 if features.transparent_shadows {
                     scene.transmittance(&shadow_ray, incidence.distance)
                 } else if scene.occluded(&shadow_ray, incidence.distance) {

@@ -11,11 +11,21 @@ pub struct Ray {
     pub origin: Vec3,
     /// `d`, the direction (any non-zero length).
     pub dir: Vec3,
+    /// When the ray travels, in [0, 1) across the shutter interval: moving instances are
+    /// where they are at this time (motion blur). Secondary rays inherit it.
+    pub time: f32,
 }
 
 impl Ray {
+    /// A ray at shutter open (time 0).
     pub fn new(origin: Vec3, dir: Vec3) -> Self {
-        Self { origin, dir }
+        Self { origin, dir, time: 0.0 }
+    }
+
+    /// The same ray at another time.
+    #[inline]
+    pub fn at_time(self, time: f32) -> Self {
+        Self { time, ..self }
     }
 
     /// The point `P + t·d`.

@@ -43,6 +43,12 @@ impl Transform {
         Some(Self { world_from_object: r, object_from_world: r.transpose() })
     }
 
+    /// A rotation given as a unit quaternion.
+    pub fn from_quat(rotation: glam::Quat) -> Self {
+        let r = Mat4::from_quat(rotation);
+        Self { world_from_object: r, object_from_world: r.transpose() }
+    }
+
     /// A general affine matrix; `None` unless it is affine and invertible.
     pub fn from_matrix(m: Mat4) -> Option<Self> {
         let affine = m.row(3) == glam::Vec4::W;
@@ -66,6 +72,7 @@ impl Transform {
         Ray {
             origin: self.object_from_world.transform_point3(ray.origin),
             dir: self.object_from_world.transform_vector3(ray.dir),
+            time: ray.time,
         }
     }
 

@@ -291,6 +291,9 @@ impl CsgBuild<'_> {
                 return self.operation(*op, children, &transform, origin);
             }
             NodeKind::Solid(solid) => leaf_record(solid, origin, self.material_count, self.tables)?,
+            NodeKind::Moving { .. } => {
+                return Err(invalid(origin, "a CSG solid cannot have moving parts; move the whole solid instead"));
+            }
             NodeKind::Shape { shape, material } => {
                 let record = shape_record(shape, origin)?;
                 if !record.is_solid() {

@@ -207,7 +207,7 @@ pub(crate) fn nearest_root(roots: [f32; 2], t_max: f32, mut accept: impl FnMut(f
 #[inline]
 pub(crate) fn rebase(ray: &Ray) -> (f32, Ray) {
     let t0 = -ray.origin.dot(ray.dir) / ray.dir.length_squared();
-    (t0, Ray { origin: ray.at(t0), dir: ray.dir })
+    (t0, Ray { origin: ray.at(t0), ..*ray })
 }
 
 /// Longitude of a point around the y axis mapped to [0, 1).

@@ -19,7 +19,7 @@ const TORUS_MINOR_RADIUS: f32 = 0.25;
 
 /// Whether `name` starts an object (a shape, a group or a use).
 pub fn is_object(name: &str) -> bool {
-    SHAPES.contains(&name) || name == "group" || name == "use" || name == "mesh_instance" || is_solid(name)
+    SHAPES.contains(&name) || ["group", "moving", "use", "mesh_instance"].contains(&name) || is_solid(name)
 }
 
 /// Names allowed inside `group` and `define`: transforms (group only) and objects.
@@ -29,7 +29,7 @@ fn container_allowed(with_transforms: bool) -> Vec<&'static str> {
         allowed.extend(TRANSFORMS);
     }
     allowed.extend(SHAPES);
-    allowed.extend(["group", "use", "mesh_instance"]);
+    allowed.extend(["group", "moving", "use", "mesh_instance"]);
     allowed.extend(SOLIDS);
     allowed
 }
@@ -38,7 +38,7 @@ impl Builder {
     /// Builds one object node (which [`is_object`] accepted).
     pub fn object(&mut self, src: &Source, node: &Node) -> Result<NodeDesc> {
         match node.name.as_str() {
-            "group" => self.group(src, node),
+            "group" | "moving" => self.group(src, node),
             "use" => self.use_definition(src, node),
             "mesh_instance" => self.mesh_instance(src, node),
             name if is_solid(name) => self.solid(src, node),
@@ -96,22 +96,49 @@ impl Builder {
         Ok(NodeDesc { transform, kind: NodeKind::Shape { shape, material }, origin: src.origin(node.pos()) })
     }
 
-    /// `group { transforms… objects… }`.
+    /// `group { transforms… objects… }`, and `moving { transforms… close { transforms… }
+    /// objects… }` whose children move from the first pose (shutter open) to the `close`
+    /// pose (shutter close).
     fn group(&mut self, src: &Source, node: &Node) -> Result<NodeDesc> {
         args::no_values(src, node)?;
+        let moving = node.name == "moving";
         let mut transform = Vec::new();
+        let mut close = None;
         let mut children = Vec::new();
         for child in node.children() {
             if let Some(op) = transform_op(src, child)? {
                 transform.push(op);
             } else if is_object(&child.name) {
                 children.push(self.object(src, child)?);
+            } else if moving && child.name == "close" && close.is_none() {
+                args::no_values(src, child)?;
+                let mut ops = Vec::new();
+                for prop in child.children() {
+                    match transform_op(src, prop)? {
+                        Some(op) => ops.push(op),
+                        None => return Err(args::unknown(src, prop, "transform", "in 'close'", &TRANSFORMS)),
+                    }
+                }
+                close = Some(ops);
             } else {
-                return Err(args::unknown(src, child, "node", "in 'group'", &container_allowed(true)));
+                let mut allowed = container_allowed(true);
+                if moving {
+                    allowed.push("close");
+                }
+                let place = format!("in '{}'", node.name);
+                return Err(args::unknown(src, child, "node", &place, &allowed));
             }
         }
         self.count_nodes(src, node.pos(), 1)?;
-        Ok(NodeDesc { transform, kind: NodeKind::Group(children), origin: src.origin(node.pos()) })
+        let kind = if moving {
+            let Some(close) = close else {
+                return Err(src.invalid(node.pos(), "'moving' needs a 'close { … }' block: its pose at shutter close"));
+            };
+            NodeKind::Moving { close, children }
+        } else {
+            NodeKind::Group(children)
+        };
+        Ok(NodeDesc { transform, kind, origin: src.origin(node.pos()) })
     }
 
     /// `define "name" { objects… }`: builds the objects now (so their materials are the

@@ -426,6 +426,18 @@ impl Writer {
                 }
                 self.line(depth, "}");
             }
+            NodeKind::Moving { close, children } => {
+                self.line(depth, "moving {");
+                for s in &statements {
+                    self.line(depth + 1, s);
+                }
+                let close = close.iter().map(|op| transform(op, &node.origin)).collect::<Result<Vec<_>, _>>()?;
+                self.line(depth + 1, &format!("close {{ {} }}", close.join("  ")));
+                for child in children {
+                    self.node(child, depth + 1, materials)?;
+                }
+                self.line(depth, "}");
+            }
         }
         Ok(())
     }
