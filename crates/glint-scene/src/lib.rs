@@ -11,6 +11,7 @@ pub mod error;
 pub mod image_out;
 pub mod mesh;
 pub mod native;
+pub mod source;
 pub mod texture_io;
 
 pub use detect::{Loaded, SceneFormat, detect, load_any};

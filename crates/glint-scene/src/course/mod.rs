@@ -19,19 +19,14 @@ mod textures;
 mod xml;
 
 use std::collections::HashSet;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use crate::detect::{Loaded, SceneFormat};
 use crate::error::{SceneError, SceneErrorKind};
 
 pub use build::{COURSE_HEIGHT, COURSE_MAX_DEPTH, COURSE_WIDTH, DEPTH_OF_FIELD_SAMPLES_PER_AXIS, MAX_NODES};
 
-/// A 1-based line and column (in characters) in a scene file.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub struct Pos {
-    pub line: u32,
-    pub column: u32,
-}
+pub use crate::source::{Pos, Source};
 
 /// How to read a course scene.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -117,30 +112,6 @@ fn parse(text: &str, src: &Source, format: SceneFormat, options: CourseOptions) 
     };
     let scene = build::build(&model, src, options, &mut warnings)?;
     Ok(Loaded { scene, format, warnings: warnings.into_vec() })
-}
-
-/// The file being read: its name for messages and its folder for relative paths.
-pub(crate) struct Source {
-    /// The file as it appears in messages and node origins.
-    pub name: String,
-    /// The folder the scene file is in.
-    pub dir: PathBuf,
-}
-
-impl Source {
-    pub fn error(&self, kind: SceneErrorKind, pos: Pos, message: impl Into<String>) -> SceneError {
-        SceneError::new(kind, self.name.clone(), pos.line, pos.column, message)
-    }
-
-    /// A scene-meaning error at `pos`.
-    pub fn invalid(&self, pos: Pos, message: impl Into<String>) -> SceneError {
-        self.error(SceneErrorKind::Invalid, pos, message)
-    }
-
-    /// `file:line:col`, the origin recorded on scene nodes and the prefix of warnings.
-    pub fn origin(&self, pos: Pos) -> String {
-        format!("{}:{}:{}", self.name, pos.line, pos.column)
-    }
 }
 
 /// Warnings in the order met, each given once (a template used many times would

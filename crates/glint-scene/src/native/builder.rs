@@ -13,7 +13,7 @@ use super::args::{self, Result};
 use super::lexer::{Pos, tokenize};
 use super::tree::{Node, parse};
 use super::{lights, materials, settings};
-use crate::error::{SceneError, SceneErrorKind};
+use crate::error::SceneErrorKind;
 
 /// Includes nested deeper than this are refused; a real scene needs a handful, and the
 /// limit keeps a long chain of distinct files from exhausting the stack.
@@ -52,30 +52,7 @@ const TOP_LEVEL: [&str; 25] = [
     "superellipsoid",
 ];
 
-/// The file a node came from: its name for messages and its folder for relative paths.
-pub struct Source {
-    /// The file as it appears in messages and node origins.
-    pub name: String,
-    /// Folder that relative paths (includes, textures) in this file start from.
-    pub dir: PathBuf,
-}
-
-impl Source {
-    /// An error located in this file.
-    pub fn error(&self, kind: SceneErrorKind, pos: Pos, message: impl Into<String>) -> SceneError {
-        SceneError::new(kind, self.name.clone(), pos.line, pos.column, message)
-    }
-
-    /// A scene-meaning error located in this file.
-    pub fn invalid(&self, pos: Pos, message: impl Into<String>) -> SceneError {
-        self.error(SceneErrorKind::Invalid, pos, message)
-    }
-
-    /// `file:line:col`, the origin recorded on scene nodes.
-    pub fn origin(&self, pos: Pos) -> String {
-        format!("{}:{}:{}", self.name, pos.line, pos.column)
-    }
-}
+pub use crate::source::Source;
 
 /// Names of one kind (materials, textures, definitions) mapped to their index and origin.
 #[derive(Default)]

@@ -4,14 +4,7 @@
 //! is finite in `f32` (so NaN and infinity can never reach the renderer) and that every
 //! token knows the line and column where it starts.
 
-/// A 1-based line and column (in characters) in a source file.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub struct Pos {
-    /// 1-based line number.
-    pub line: u32,
-    /// 1-based column, counted in characters (a tab is one column).
-    pub column: u32,
-}
+pub use crate::source::Pos;
 
 /// What a token is; the text of names and strings is kept decoded.
 #[derive(Clone, Debug, PartialEq)]
