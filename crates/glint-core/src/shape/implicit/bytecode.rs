@@ -7,6 +7,8 @@
 //! [`DualInterval`] for the enclosures the root finder prunes with.
 
 use bytemuck::NoUninit;
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
 use glam::DVec3;
 
 use super::interval::{DualInterval, Interval};
@@ -72,13 +74,10 @@ impl ImplicitOp {
 }
 
 /// The arithmetic an evaluator needs from its number type.
-pub trait Arith: Copy {
+pub trait Arith:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self> + Neg<Output = Self>
+{
     fn constant(c: f64) -> Self;
-    fn add(self, o: Self) -> Self;
-    fn sub(self, o: Self) -> Self;
-    fn mul(self, o: Self) -> Self;
-    fn div(self, o: Self) -> Self;
-    fn neg(self) -> Self;
     fn powi(self, n: u32) -> Self;
     fn recip(self) -> Self;
     fn sqrt(self) -> Self;
@@ -111,10 +110,10 @@ pub fn run<N: Arith>(code: &[ImplicitOp], x: N, y: N, z: N) -> N {
                 top -= 1;
                 let (a, b) = (stack[top - 1], stack[top]);
                 stack[top - 1] = match op.code {
-                    OpCode::Add => a.add(b),
-                    OpCode::Sub => a.sub(b),
-                    OpCode::Mul => a.mul(b),
-                    OpCode::Div => a.div(b),
+                    OpCode::Add => a + b,
+                    OpCode::Sub => a - b,
+                    OpCode::Mul => a * b,
+                    OpCode::Div => a / b,
                     OpCode::Min => a.min(b),
                     _ => a.max(b),
                 };
@@ -123,7 +122,7 @@ pub fn run<N: Arith>(code: &[ImplicitOp], x: N, y: N, z: N) -> N {
                 let a = stack[top - 1];
                 stack[top - 1] = match unary {
                     OpCode::PowI => a.powi(op.arg as u32),
-                    OpCode::Neg => a.neg(),
+                    OpCode::Neg => -a,
                     OpCode::Recip => a.recip(),
                     OpCode::Sqrt => a.sqrt(),
                     OpCode::Abs => a.abs(),
@@ -160,21 +159,6 @@ pub fn stack_depth(code: &[ImplicitOp]) -> Option<usize> {
 impl Arith for f64 {
     fn constant(c: f64) -> Self {
         c
-    }
-    fn add(self, o: Self) -> Self {
-        self + o
-    }
-    fn sub(self, o: Self) -> Self {
-        self - o
-    }
-    fn mul(self, o: Self) -> Self {
-        self * o
-    }
-    fn div(self, o: Self) -> Self {
-        self / o
-    }
-    fn neg(self) -> Self {
-        -self
     }
     fn powi(self, n: u32) -> Self {
         f64::powi(self, n as i32)
@@ -225,25 +209,47 @@ impl Dual3 {
     }
 }
 
-impl Arith for Dual3 {
-    fn constant(c: f64) -> Self {
-        Dual3 { v: c, g: DVec3::ZERO }
-    }
+impl Add for Dual3 {
+    type Output = Self;
     fn add(self, o: Self) -> Self {
         Dual3 { v: self.v + o.v, g: self.g + o.g }
     }
+}
+
+impl Sub for Dual3 {
+    type Output = Self;
     fn sub(self, o: Self) -> Self {
         Dual3 { v: self.v - o.v, g: self.g - o.g }
     }
+}
+
+/// The product rule.
+impl Mul for Dual3 {
+    type Output = Self;
     fn mul(self, o: Self) -> Self {
         Dual3 { v: self.v * o.v, g: self.g * o.v + o.g * self.v }
     }
+}
+
+/// The quotient rule.
+impl Div for Dual3 {
+    type Output = Self;
     fn div(self, o: Self) -> Self {
         let v = self.v / o.v;
         Dual3 { v, g: (self.g - o.g * v) / o.v }
     }
+}
+
+impl Neg for Dual3 {
+    type Output = Self;
     fn neg(self) -> Self {
         Dual3 { v: -self.v, g: -self.g }
+    }
+}
+
+impl Arith for Dual3 {
+    fn constant(c: f64) -> Self {
+        Dual3 { v: c, g: DVec3::ZERO }
     }
     fn powi(self, n: u32) -> Self {
         if n == 0 {
@@ -283,21 +289,6 @@ impl Arith for Dual3 {
 impl Arith for DualInterval {
     fn constant(c: f64) -> Self {
         DualInterval::constant(c)
-    }
-    fn add(self, o: Self) -> Self {
-        self + o
-    }
-    fn sub(self, o: Self) -> Self {
-        self - o
-    }
-    fn mul(self, o: Self) -> Self {
-        self * o
-    }
-    fn div(self, o: Self) -> Self {
-        self / o
-    }
-    fn neg(self) -> Self {
-        -self
     }
     fn powi(self, n: u32) -> Self {
         DualInterval::powi(self, n)
