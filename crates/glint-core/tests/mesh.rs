@@ -94,3 +94,37 @@ fn bad_mesh_index_is_a_compile_error() {
     let err = compile(&desc).unwrap_err().to_string();
     assert!(err.contains("mesh index 3 out of range"), "{err}");
 }
+
+#[test]
+fn ten_thousand_instances_share_one_mesh() {
+    let mut desc = base();
+    desc.meshes.push(octahedron());
+    for i in 0..100 {
+        for j in 0..100 {
+            let at = Vec3::new(i as f32 * 3.0, 0.0, j as f32 * -3.0);
+            desc.objects.push(node(0, vec![TransformOp::Scale(Vec3::splat(0.5)), TransformOp::Translate(at)]));
+        }
+    }
+    let scene = compile(&desc).expect("valid scene");
+    assert_eq!((scene.meshes.len(), scene.instances.len()), (1, 10_000));
+    // A ray down onto instance (57, 31) at (0.1, 0.05) from its centre: the face
+    // |x| + |y| + |z| = 1 of the octahedron scaled by 0.5 is at y = 0.5 − 0.15 = 0.35.
+    let target = Vec3::new(57.0 * 3.0 + 0.1, 0.0, 31.0 * -3.0 + 0.05);
+    let ray = glint_core::math::Ray::new(target + Vec3::Y * 10.0, Vec3::NEG_Y);
+    let hit = scene.intersect(&ray, f32::INFINITY).expect("hits the instance below");
+    assert!((hit.point.y - 0.35).abs() < 1e-4, "{:?}", hit.point);
+    assert!(hit.normal.y > 0.9 && hit.geometric_normal.y > 0.5);
+}
+
+#[test]
+fn a_mirrored_instance_keeps_its_normals_outside() {
+    let mut desc = base();
+    desc.meshes.push(octahedron());
+    desc.objects.push(node(0, vec![TransformOp::Scale(Vec3::new(-1.0, 1.0, 1.0))]));
+    let scene = compile(&desc).expect("valid scene");
+    for dir in [Vec3::NEG_X, Vec3::X, Vec3::NEG_Y, Vec3::Z] {
+        let ray = glint_core::math::Ray::new(-5.0 * dir + Vec3::new(0.01, 0.02, 0.03), dir);
+        let hit = scene.intersect(&ray, f32::INFINITY).expect("hits");
+        assert!(hit.normal.dot(dir) < 0.0 && hit.geometric_normal.dot(dir) < 0.0, "{dir}: {hit:?}");
+    }
+}

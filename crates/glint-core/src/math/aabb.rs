@@ -2,6 +2,10 @@ use glam::{Mat4, Vec3};
 
 use super::Ray;
 
+/// `1 + 2γ₃` with `γₙ = n·ε/(1 − n·ε)`, ε = 2⁻²⁴: how far rounding can shrink a slab
+/// test's exit distance.
+pub const ROBUST_FAR: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+
 /// An axis-aligned bounding box; the empty box has `min > max`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
@@ -80,7 +84,10 @@ impl Aabb {
         let t1 = (self.max - ray.origin) * inv_dir;
         // min/max ignore a NaN operand (0·∞ when the origin lies on a slab plane).
         let near = t0.min(t1).max_element().max(0.0);
-        let far = t0.max(t1).min_element().min(t_max);
+        // Widened by the rounding bound of the three operations before it, so a ray that
+        // meets a flat box exactly on its edge is not culled (Ize, "Robust BVH Ray
+        // Traversal", JCGT 2013: 1 + 2γ₃).
+        let far = (t0.max(t1).min_element() * ROBUST_FAR).min(t_max);
         (near <= far).then_some((near, far))
     }
 }

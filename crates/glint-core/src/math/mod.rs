@@ -7,7 +7,7 @@ mod ray;
 pub mod roots;
 mod transform;
 
-pub use aabb::Aabb;
+pub use aabb::{Aabb, ROBUST_FAR};
 pub use offset::offset_ray_origin;
 pub use ray::Ray;
 pub use transform::Transform;

@@ -4,13 +4,13 @@
 //! of times by instances whose [`crate::shape::Shape`] names its index (two-level
 //! instancing: the top-level BVH is over instances, each mesh has its own BVH over
 //! triangles in object space). Everything is plain arrays so a GPU backend can upload
-//! them as they are: `BvhNode` is `Pod`, indices are `[u32; 3]`, vertices `Vec3`.
+//! them as they are: `Bvh4Node` is `Pod`, indices are `[u32; 3]`, vertices `Vec3`.
 
 pub mod triangle;
 
 use glam::{Vec2, Vec3};
 
-use crate::accel::Bvh;
+use crate::accel::{Bvh, Bvh4};
 use crate::desc::MeshDesc;
 use crate::math::{Aabb, Ray};
 use crate::shape::{ShapeHit, SurfacePoint};
@@ -25,7 +25,8 @@ pub struct Mesh {
     /// Per-vertex texture coordinates, or empty (the barycentric `(b1, b2)` are used).
     pub uvs: Vec<Vec2>,
     pub triangles: Vec<[u32; 3]>,
-    pub bvh: Bvh,
+    /// Built with the binary SAH builder, then collapsed to four children per node.
+    pub bvh: Bvh4,
     /// Triangles dropped at compile time because they have no area.
     pub degenerate: usize,
     /// The corners of each triangle again, in the same order: the traversal's hot loop
@@ -120,14 +121,14 @@ impl Mesh {
             normals,
             uvs,
             triangles,
-            bvh: Bvh::default(),
+            bvh: Bvh4::default(),
             degenerate,
             corners: vec![],
         };
         let boxes: Vec<Aabb> = (0..mesh.triangles.len()).map(|i| mesh.triangle_bounds(i)).collect();
         let (bvh, order) = Bvh::build(&boxes);
         mesh.triangles = order.iter().map(|&i| mesh.triangles[i as usize]).collect();
-        mesh.bvh = bvh;
+        mesh.bvh = Bvh4::from_binary(&bvh);
         mesh.renumber_vertices();
         mesh.corners = (0..mesh.triangles.len()).map(|t| mesh.vertices(t)).collect();
         Ok(mesh)
@@ -242,7 +243,7 @@ impl Mesh {
             + self.uvs.len() * size_of::<Vec2>()
             + self.triangles.len() * 12
             + self.corners.len() * size_of::<[Vec3; 3]>()
-            + self.bvh.nodes.len() * size_of::<crate::accel::BvhNode>()
+            + self.bvh.nodes.len() * size_of::<crate::accel::Bvh4Node>()
     }
 }
 

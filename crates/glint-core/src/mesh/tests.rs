@@ -51,6 +51,7 @@ fn shared_edges_and_vertices_are_hit_exactly_once() {
     let dirs = [Vec3::NEG_Z, Vec3::new(0.3, -0.2, -1.0), Vec3::new(-0.71, 0.05, -0.4), Vec3::new(0.1, 0.9, -0.33)];
     for tilt in tilts {
         let desc = grid(n, tilt);
+        let mesh = Mesh::compile(&desc).unwrap();
         let normal = tilt * Vec3::Z;
         // Interior vertices and the midpoints of interior edges (axis-aligned ones and
         // both diagonal directions).
@@ -72,6 +73,9 @@ fn shared_edges_and_vertices_are_hit_exactly_once() {
                         continue;
                     }
                     assert_eq!(hit_count(&desc, origin, d), 1, "target ({x}, {y}), dir {d}, tilt {tilt}");
+                    // The BVH finds it too, with nothing culled at the box boundaries.
+                    let hit = mesh.intersect(&Ray::new(origin, d), f32::INFINITY);
+                    assert!(hit.is_some_and(|h| (h.t - 7.0).abs() < 1e-3), "BVH at ({x}, {y}), dir {d}");
                 }
             }
         }

@@ -73,6 +73,13 @@ impl State<'_> {
             return Err(mesh_error(self.path, 0, "the node tree is deeper than 256 levels (a cycle?)"));
         }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        // A zero scale (a common way to hide a node) has no inverse: skip what it holds.
+        let det = world.determinant();
+        if !(world.is_finite() && det.is_finite() && det.abs() > f32::MIN_POSITIVE) {
+            let message = format!("{}: skipped node {} with a singular transform", self.path.display(), node.index());
+            self.import.warnings.push(message);
+            return Ok(());
+        }
         if let Some(mesh) = node.mesh() {
             for primitive in mesh.primitives() {
                 if primitive.mode() != gltf::mesh::Mode::Triangles {

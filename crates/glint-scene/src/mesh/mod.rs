@@ -72,16 +72,28 @@ pub(crate) fn io_error(file: &Path, message: impl Into<String>) -> SceneError {
     SceneError::new(SceneErrorKind::Io, file.display().to_string(), 0, 0, message)
 }
 
-/// Reads the whole file after checking its size.
-pub(crate) fn read_limited(path: &Path) -> Result<Vec<u8>, SceneError> {
-    let meta = std::fs::metadata(path).map_err(|e| io_error(path, format!("cannot read mesh file: {e}")))?;
+/// Reads the whole file, after checking its size and letting `check_head` look at its
+/// first 4 KiB: a large file that is not a mesh is refused without being read.
+pub(crate) fn read_limited(
+    path: &Path,
+    check_head: impl Fn(&[u8]) -> Result<(), SceneError>,
+) -> Result<Vec<u8>, SceneError> {
+    use std::io::Read;
+    let cannot = |e: std::io::Error| io_error(path, format!("cannot read mesh file: {e}"));
+    let meta = std::fs::metadata(path).map_err(cannot)?;
     if meta.len() > MAX_MESH_FILE_BYTES {
         return Err(io_error(
             path,
             format!("the file is {} bytes, more than the {MAX_MESH_FILE_BYTES} bytes a mesh file may have", meta.len()),
         ));
     }
-    std::fs::read(path).map_err(|e| io_error(path, format!("cannot read mesh file: {e}")))
+    let mut file = std::fs::File::open(path).map_err(cannot)?;
+    let mut head = Vec::with_capacity(4096);
+    (&mut file).take(4096).read_to_end(&mut head).map_err(cannot)?;
+    check_head(&head)?;
+    let mut bytes = head;
+    file.read_to_end(&mut bytes).map_err(cannot)?;
+    Ok(bytes)
 }
 
 /// Reads a mesh file of any supported format (chosen by extension).

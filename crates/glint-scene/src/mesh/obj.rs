@@ -22,10 +22,12 @@ struct Group {
 }
 
 pub fn load(path: &Path) -> Result<MeshImport, SceneError> {
-    let bytes = read_limited(path)?;
-    if bytes.iter().take(4096).any(|&b| b == 0) {
-        return Err(mesh_error(path, 0, "not an OBJ file: it holds binary data"));
-    }
+    let bytes = read_limited(path, |head| {
+        if head.contains(&0) {
+            return Err(mesh_error(path, 0, "not an OBJ file: it holds binary data"));
+        }
+        Ok(())
+    })?;
     let text = String::from_utf8_lossy(&bytes);
     let mut positions: Vec<Vec3> = Vec::new();
     let mut normals: Vec<Vec3> = Vec::new();

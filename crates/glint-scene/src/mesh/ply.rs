@@ -80,10 +80,12 @@ enum Body<'a> {
 }
 
 pub fn load(path: &Path) -> Result<MeshImport, SceneError> {
-    let bytes = read_limited(path)?;
-    if !bytes.starts_with(b"ply\n") && !bytes.starts_with(b"ply\r\n") {
-        return Err(mesh_error(path, 0, "not a PLY file: it does not start with 'ply'"));
-    }
+    let bytes = read_limited(path, |head| {
+        if !head.starts_with(b"ply\n") && !head.starts_with(b"ply\r\n") {
+            return Err(mesh_error(path, 0, "not a PLY file: it does not start with 'ply'"));
+        }
+        Ok(())
+    })?;
     // The header is text ending at `end_header`; refuse to look further than 64 KiB for it.
     let search = &bytes[..bytes.len().min(1 << 16)];
     let end = search

@@ -171,3 +171,49 @@ mesh_instance \"tri\" { material \"red\" }\ngroup { translate [2 0 0] mesh_insta
     let e = crate::parse_scene("mesh \"m\" { file \"missing.ply\" }", "s.glint", &dir).unwrap_err();
     assert!(e.to_string().contains("missing.ply"), "{e}");
 }
+
+/// Mutated copies of valid files (bytes changed, cut short, pieces repeated) must give a
+/// mesh or an error, never a panic or a hang.
+#[test]
+fn mangled_files_never_panic() {
+    let dir = folder("fuzz");
+    let obj = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 2/1/1 3/1/1\nf -3 -2 -1\n".to_vec();
+    let ply =
+        format!("ply\nformat ascii 1.0\n{PLY_HEADER}0 0 0 9\n1 0 0 9\n1 1 0 9\n0 1 0 9\n4 0 1 2 3\n").into_bytes();
+    let mut bply = format!("ply\nformat binary_little_endian 1.0\n{PLY_HEADER}").into_bytes();
+    bply.extend([0u8; 13 * 4]);
+    bply.push(3);
+    [0i32, 1, 2].iter().for_each(|i| bply.extend(i.to_le_bytes()));
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut next = move |n: usize| {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state % n.max(1) as u64) as usize
+    };
+    for (name, original) in [("a.obj", obj), ("a.ply", ply), ("b.ply", bply), ("a.glb", tiny_glb())] {
+        for round in 0..150 {
+            let mut bytes = original.clone();
+            match round % 3 {
+                0 => {
+                    for _ in 0..1 + next(4) {
+                        let at = next(bytes.len());
+                        bytes[at] = next(256) as u8;
+                    }
+                }
+                1 => bytes.truncate(next(bytes.len())),
+                _ => {
+                    let at = next(bytes.len());
+                    let piece = bytes[at..(at + 1 + next(16)).min(bytes.len())].to_vec();
+                    let to = next(bytes.len());
+                    bytes.splice(to..to, piece);
+                }
+            }
+            let path = write(&dir, name, &bytes);
+            // Whatever loads must also compile or be refused by compile, not crash it.
+            if let Ok(import) = load_mesh(&path) {
+                let _ = glint_core::scene::compile(&model_scene(import));
+            }
+        }
+    }
+}

@@ -32,7 +32,7 @@ impl Builder {
         let path = src.dir.join(&file);
         // The file's own errors name the file and line they are about.
         let import = crate::mesh::load_mesh(&path)?;
-        self.desc.meshes.push(crate::mesh::merged(&import, &name, &file));
+        self.desc.meshes.push(crate::mesh::merged(&import, &name, &path.display().to_string()));
         Ok(())
     }
 
