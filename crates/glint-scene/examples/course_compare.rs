@@ -45,7 +45,7 @@ const NOTES: &[(&str, &str)] = &[
     ),
     (
         "json/intersect/extra_credit/bunny_mesh.json",
-        "Needs triangle meshes: `meshes/bunny.obj` is skipped with a warning. The rest of the scene matches.",
+        "Renders the OBJ bunny as a triangle mesh (smooth normals from the file).",
     ),
     (
         "json/illuminate/required/texture_tests/texture_cyl2.json",
@@ -78,7 +78,7 @@ const NOTES: &[(&str, &str)] = &[
     ),
     (
         "xml/test_legacy/mesh.xml",
-        "Needs `mesh/dragon.obj`, which the collection does not include (over 4 MiB), and triangle meshes.",
+        "Needs `mesh/dragon.obj`, which the collection does not include (over 4 MiB): only the rest of the scene is drawn.",
     ),
     (
         "xml/test_dof/dof.xml",

@@ -216,22 +216,41 @@ fn xml_master_objects_equal_writing_the_objects_out() {
 }
 
 #[test]
-fn xml_torus_and_mesh() {
-    let loaded = xml(&xml_scene(
-        "",
-        r#"<object type="primitive" name="torus"/>
-<object type="primitive" name="mesh" meshfile="mesh/dragon.obj"/>"#,
-    ));
+fn xml_torus() {
+    let loaded = xml(&xml_scene("", r#"<object type="primitive" name="torus"/>"#));
     let [(world, shape, _)] = shapes(&loaded.scene).try_into().unwrap();
     // A ring inside the unit cube: outer radius 0.5.
     let ShapeDesc::Torus { minor_radius } = shape else { panic!("{shape:?}") };
     assert_close(world.transform_point3(Vec3::new(1.0 + minor_radius, 0.0, 0.0)), Vec3::new(0.5, 0.0, 0.0));
-    assert_eq!(loaded.warnings.len(), 1);
-    assert!(
-        loaded.warnings[0].starts_with("scene.xml:2:1: mesh 'mesh/dragon.obj' is skipped"),
-        "{:?}",
-        loaded.warnings
+    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+}
+
+#[test]
+fn xml_mesh_is_loaded_in_its_own_coordinates_and_a_missing_one_is_located() {
+    // The course resolves mesh paths against the parent of the scene's folder.
+    let root = std::env::temp_dir().join(format!("glint-course-mesh-{}", std::process::id()));
+    std::fs::create_dir_all(root.join("mesh")).unwrap();
+    std::fs::create_dir_all(root.join("scenes")).unwrap();
+    std::fs::write(root.join("mesh/tri.obj"), "v 0 0 0\nv 2 0 0\nv 0 2 0\nf 1 2 3\n").unwrap();
+    let text = xml_scene("", r#"<object type="primitive" name="mesh" meshfile="mesh/tri.obj"/>"#);
+    let loaded = parse_xml(&text, "scene.xml", &root.join("scenes"), CourseOptions::default()).unwrap();
+    assert_eq!(loaded.scene.meshes.len(), 1);
+    assert_eq!(loaded.scene.meshes[0].positions[1], Vec3::new(2.0, 0.0, 0.0), "no unit-size scaling for meshes");
+    let [(_, shape, _)] = shapes(&loaded.scene).try_into().unwrap();
+    assert_eq!(shape, ShapeDesc::Mesh { index: 0 });
+
+    let missing = xml_scene(
+        "",
+        r#"
+<object type="primitive" name="mesh" meshfile="mesh/dragon.obj"/>"#,
     );
+    let err = parse_xml(&missing, "scene.xml", &root.join("scenes"), CourseOptions::default()).unwrap_err();
+    assert_eq!(err.line, 2, "{err}");
+    assert!(err.message.contains("mesh/dragon.obj"), "{err}");
+    let lenient = CourseOptions { strict_textures: false };
+    let loaded = parse_xml(&missing, "scene.xml", &root.join("scenes"), lenient).unwrap();
+    assert!(shapes(&loaded.scene).is_empty() && loaded.warnings.len() == 1, "{:?}", loaded.warnings);
+    std::fs::remove_dir_all(root).unwrap();
 }
 
 #[test]

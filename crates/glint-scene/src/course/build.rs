@@ -21,6 +21,7 @@ use glint_core::desc::{
 use super::model::{Child, CourseScene, Group, Light, LightKind, Material, Primitive, Shape, ops_matrix};
 use super::textures::TextureCache;
 use super::{CourseOptions, Pos, Result, Source, Warnings};
+use crate::error::SceneErrorKind;
 
 /// The image size the course renders its reference images at.
 pub const COURSE_WIDTH: u32 = 1024;
@@ -56,6 +57,7 @@ pub fn build(model: &CourseScene, src: &Source, options: CourseOptions, warnings
         desc: SceneDesc::default(),
         textures: TextureCache::default(),
         material_index: HashMap::new(),
+        mesh_index: HashMap::new(),
         in_progress: Vec::new(),
         node_count: 0,
     };
@@ -102,6 +104,8 @@ struct Builder<'a> {
     textures: TextureCache,
     /// Materials already made, by their exact values, so equal ones are shared.
     material_index: HashMap<Vec<u32>, usize>,
+    /// Meshes already loaded, by the path as written (`None`: not found, warned once).
+    mesh_index: HashMap<String, Option<usize>>,
     /// Templates being written out, outermost first (to catch a template inside itself).
     in_progress: Vec<usize>,
     node_count: usize,
@@ -238,23 +242,26 @@ impl Builder<'_> {
         Ok(())
     }
 
-    /// A primitive as a glint shape scaled to the course's unit size; `None` for a mesh.
+    /// A primitive as a glint shape scaled to the course's unit size (meshes keep their
+    /// own coordinates); `None` for a mesh file that cannot be found in lenient mode.
     fn primitive(&mut self, p: &Primitive) -> Result<Option<NodeDesc>> {
         self.count(p.pos)?;
+        if let Shape::Mesh(file) = &p.shape {
+            let Some(index) = self.mesh(p.pos, file)? else { return Ok(None) };
+            let material = self.material(&p.material)?;
+            return Ok(Some(NodeDesc {
+                transform: Vec::new(),
+                kind: NodeKind::Shape { shape: ShapeDesc::Mesh { index }, material },
+                origin: self.src.origin(p.pos),
+            }));
+        }
         let (shape, size) = match &p.shape {
             Shape::Cube => (ShapeDesc::Cube, UNIT_SCALE),
             Shape::Sphere => (ShapeDesc::Sphere, UNIT_SCALE),
             Shape::Cylinder => (ShapeDesc::Cylinder, UNIT_SCALE),
             Shape::Cone => (ShapeDesc::Cone, UNIT_SCALE),
             Shape::Torus => (ShapeDesc::Torus { minor_radius: TORUS_MINOR_RATIO }, TORUS_MAJOR),
-            Shape::Mesh(file) => {
-                self.warnings.at(
-                    self.src,
-                    p.pos,
-                    format!("mesh '{file}' is skipped: glint cannot render triangle meshes yet"),
-                );
-                return Ok(None);
-            }
+            Shape::Mesh(_) => unreachable!("handled above"),
         };
         let material = self.material(&p.material)?;
         Ok(Some(NodeDesc {
@@ -262,6 +269,37 @@ impl Builder<'_> {
             kind: NodeKind::Shape { shape, material },
             origin: self.src.origin(p.pos),
         }))
+    }
+
+    /// The index of the mesh file `written` in the scene, loading it the first time. Found
+    /// the way textures are; a file found nowhere is an error, or with lenient textures a
+    /// warning and no object (what the course's renderer shows).
+    fn mesh(&mut self, pos: Pos, written: &str) -> Result<Option<usize>> {
+        if let Some(&known) = self.mesh_index.get(written) {
+            return Ok(known);
+        }
+        let (primary, found) = super::textures::resolve(&self.src.dir, written);
+        let index = match found {
+            Some(path) => {
+                let import = crate::mesh::load_mesh(&path).map_err(|e| {
+                    self.src.error(SceneErrorKind::Io, pos, format!("cannot load mesh '{written}': {e}"))
+                })?;
+                self.desc.meshes.push(crate::mesh::merged(&import, written, &path.display().to_string()));
+                Some(self.desc.meshes.len() - 1)
+            }
+            None if self.options.strict_textures => {
+                let message = format!("mesh file '{written}' not found (looked first at {})", primary.display());
+                return Err(self.src.error(SceneErrorKind::Io, pos, message));
+            }
+            None => {
+                let message =
+                    format!("mesh file '{written}' not found (looked first at {}); skipped", primary.display());
+                self.warnings.at(self.src, pos, message);
+                None
+            }
+        };
+        self.mesh_index.insert(written.to_owned(), index);
+        Ok(index)
     }
 
     /// The glint material for a course material, with the global `k` folded in.
