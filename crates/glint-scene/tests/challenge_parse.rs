@@ -4,7 +4,8 @@
 
 use glam::{Vec2, Vec3};
 use glint_core::desc::{
-    AreaShape, LightDesc, MaterialDesc, NodeDesc, NodeKind, SceneDesc, ShapeDesc, TextureDesc, Transfer, TransformOp,
+    AreaShape, LightDesc, MaterialDesc, NodeDesc, NodeKind, SceneDesc, SetOp, ShapeDesc, SolidDesc, TextureDesc,
+    Transfer, TransformOp,
 };
 use glint_scene::challenge::{MIRROR, parse_challenge};
 
@@ -384,22 +385,64 @@ fn patterns_glint_cannot_draw_fall_back_to_their_first_colour() {
 }
 
 #[test]
-fn meshes_csg_and_unknown_keys_are_skipped_with_located_warnings() {
+fn triangles_and_unknown_keys_are_skipped_with_located_warnings() {
     let (scene, warnings) = parse(
         "
-- add: obj
-  file: teapot.obj
-- add: csg
-  operation: difference
+- add: triangle
+  p1: [0, 0, 0]
 - add: sphere
   shadow: false
   colour: [1, 0, 0]
 ",
     );
     assert_eq!(objects(&scene).len(), 1);
-    assert_eq!(warnings.len(), 4, "{warnings:?}");
-    assert!(warnings[0].starts_with("scene.yml:10:8: ") && warnings[0].contains("teapot.obj"), "{warnings:?}");
-    assert!(warnings[1].starts_with("scene.yml:12:8: ") && warnings[1].contains("CSG"), "{warnings:?}");
-    assert!(warnings.iter().any(|w| w.starts_with("scene.yml:16:3: ") && w.contains("'colour'")), "{warnings:?}");
+    assert_eq!(warnings.len(), 3, "{warnings:?}");
+    assert!(warnings[0].starts_with("scene.yml:10:8: ") && warnings[0].contains("triangle"), "{warnings:?}");
+    assert!(warnings.iter().any(|w| w.starts_with("scene.yml:14:3: ") && w.contains("'colour'")), "{warnings:?}");
     assert!(warnings.iter().any(|w| w.contains("shadow")), "{warnings:?}");
+}
+
+#[test]
+fn csg_becomes_a_glint_solid_with_the_books_operands() {
+    let scene = quiet(
+        "
+- add: csg
+  operation: difference
+  left: { add: cube }
+  right: { add: sphere, transform: [[scale, 1.3, 1.3, 1.3]] }
+  transform: [[translate, 0, 1, 0]]
+",
+    );
+    let nodes = objects(&scene);
+    assert_eq!(nodes.len(), 1);
+    let node = &nodes[0];
+    assert_eq!(node.transform, vec![TransformOp::Translate(Vec3::new(0.0, 1.0, 0.0))]);
+    let NodeKind::Solid(SolidDesc::Csg { op, children }) = &node.kind else { panic!("{:?}", node.kind) };
+    assert_eq!(op, &SetOp::Difference);
+    assert!(matches!(children[0].kind, NodeKind::Shape { shape: ShapeDesc::Cube, .. }));
+    assert!(matches!(children[1].kind, NodeKind::Shape { shape: ShapeDesc::Sphere, .. }));
+    let err = parse_challenge(
+        &format!("{CAMERA}- add: csg\n  operation: xor\n  left: {{ add: cube }}\n  right: {{ add: cube }}\n"),
+        "scene.yml",
+    )
+    .unwrap_err();
+    assert_eq!(err.line, 10, "{err}");
+}
+
+#[test]
+fn obj_files_load_relative_to_the_scene_and_a_missing_one_is_located() {
+    let dir = std::env::temp_dir().join(format!("glint-yaml-obj-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let scene_path = dir.join("scene.yml");
+    let text = format!("{CAMERA}- add: obj\n  file: tri.obj\n");
+    let (scene, warnings) = parse_challenge(&text, &scene_path.display().to_string()).unwrap();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    assert_eq!(scene.meshes.len(), 1);
+    assert_eq!(scene.meshes[0].indices.len(), 3);
+    let err = parse_challenge(&format!("{CAMERA}- add: obj\n  file: teapot.obj\n"), &scene_path.display().to_string())
+        .unwrap_err();
+    assert_eq!((err.line, err.column), (10, 9), "{err}");
+    assert!(err.message.contains("teapot.obj"), "{err}");
+    std::fs::remove_dir_all(dir).unwrap();
 }

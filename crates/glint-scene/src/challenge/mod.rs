@@ -61,7 +61,8 @@ pub fn load_challenge(path: &Path) -> std::result::Result<(SceneDesc, Vec<String
 ///
 /// As [`load_challenge`].
 pub fn parse_challenge(text: &str, file_name: &str) -> std::result::Result<(SceneDesc, Vec<String>), SceneError> {
-    let src = Src { name: file_name.to_owned() };
+    let dir = Path::new(file_name).parent().map(Path::to_path_buf).unwrap_or_default();
+    let src = Src { name: file_name.to_owned(), dir };
     let root = yaml::parse(text)
         .map_err(|e| SceneError::new(SceneErrorKind::Syntax, file_name, e.pos.line, e.pos.column, e.message))?;
     let Some(root) = root else {

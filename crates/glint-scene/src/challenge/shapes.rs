@@ -7,11 +7,12 @@
 //! it is not.
 
 use glam::Vec3;
-use glint_core::desc::{NodeDesc, NodeKind, ShapeDesc, TransformOp};
+use glint_core::desc::{NodeDesc, NodeKind, SetOp, ShapeDesc, SolidDesc, TransformOp};
 
 use super::Reader;
 use super::values::{self, Result};
 use super::yaml::{Value, Yaml};
+use crate::error::{SceneError, SceneErrorKind};
 use crate::native::lexer::Pos;
 
 /// Where an unbounded cylinder or cone is cut, in object units from the origin.
@@ -21,7 +22,7 @@ pub const UNBOUNDED_EXTENT: f32 = 1000.0;
 const MAX_NESTING: usize = 64;
 
 /// Kinds glint cannot draw yet, skipped with a warning.
-const SKIPPED: [&str; 4] = ["obj", "csg", "triangle", "smooth-triangle"];
+const SKIPPED: [&str; 2] = ["triangle", "smooth-triangle"];
 
 impl Reader {
     /// One object item; `None` when it is skipped. `inherited` is the material of the
@@ -37,16 +38,10 @@ impl Reader {
         match kind {
             "sphere" | "plane" | "cube" | "cylinder" | "cone" => self.shape(item, entries, kind, inherited).map(Some),
             "group" => self.group(item, entries, inherited, depth).map(Some),
+            "csg" => self.csg(item, entries, inherited, depth),
+            "obj" => self.obj(item, entries, inherited),
             _ if SKIPPED.contains(&kind) => {
-                let what = match kind {
-                    "obj" => {
-                        let file = values::get(entries, "file").and_then(Yaml::scalar).unwrap_or("?");
-                        format!("OBJ meshes are not supported yet; '{file}' is skipped")
-                    }
-                    "csg" => "CSG (union, intersection, difference) is not supported yet; the object is skipped".into(),
-                    _ => format!("glint has no '{kind}' primitive yet; the object is skipped"),
-                };
-                self.warn(kind_node.pos, what);
+                self.warn(kind_node.pos, format!("glint has no '{kind}' primitive yet; the object is skipped"));
                 Ok(None)
             }
             "camera" | "light" => {
@@ -242,6 +237,100 @@ impl Reader {
         }
         self.count_nodes(item.pos, 1)?;
         Ok(NodeDesc { transform, kind: NodeKind::Group(children), origin: self.src.origin(item.pos) })
+    }
+}
+
+impl Reader {
+    /// `add: csg` with `operation: union|intersection|difference`, `left` and `right`
+    /// objects: a glint CSG solid (the book's `difference` is left minus right).
+    fn csg(
+        &mut self,
+        item: &Yaml,
+        entries: &[(Yaml, Yaml)],
+        inherited: Option<&Yaml>,
+        depth: usize,
+    ) -> Result<Option<NodeDesc>> {
+        let mut warnings = Vec::new();
+        let known = ["add", "operation", "left", "right", "transform", "material", "shadow"];
+        values::unknown_keys(&self.src, entries, &known, "in 'csg'", &mut warnings);
+        for warning in warnings {
+            if !self.warnings.contains(&warning) {
+                self.warnings.push(warning);
+            }
+        }
+        let op_node = values::required(&self.src, entries, item.pos, "operation", "a csg")?;
+        let op = match values::word(&self.src, op_node, "operation")? {
+            "union" => SetOp::Union,
+            "intersection" => SetOp::Intersection,
+            "difference" => SetOp::Difference,
+            other => {
+                return Err(self.src.invalid(
+                    op_node.pos,
+                    format!("unknown csg operation '{other}'; expected union, intersection or difference"),
+                ));
+            }
+        };
+        let material = values::get(entries, "material").or(inherited);
+        let mut children = Vec::new();
+        for side in ["left", "right"] {
+            let child = values::required(&self.src, entries, item.pos, side, "a csg")?;
+            match self.object(child, material, depth + 1)? {
+                Some(node) => children.push(node),
+                None => {
+                    self.warn(child.pos, format!("the csg's {side} side draws nothing, so the csg is skipped"));
+                    return Ok(None);
+                }
+            }
+        }
+        let transform = match values::get(entries, "transform") {
+            Some(t) => self.transform(t, "transform")?,
+            None => Vec::new(),
+        };
+        self.count_nodes(item.pos, 1)?;
+        let kind = NodeKind::Solid(SolidDesc::Csg { op, children });
+        Ok(Some(NodeDesc { transform, kind, origin: self.src.origin(item.pos) }))
+    }
+
+    /// `add: obj` with `file:` (relative to the scene): the OBJ's triangles as one glint
+    /// mesh, placed by the item's transform, in the item's (or inherited) material.
+    fn obj(&mut self, item: &Yaml, entries: &[(Yaml, Yaml)], inherited: Option<&Yaml>) -> Result<Option<NodeDesc>> {
+        let mut warnings = Vec::new();
+        values::unknown_keys(
+            &self.src,
+            entries,
+            &["add", "file", "transform", "material", "shadow"],
+            "in 'obj'",
+            &mut warnings,
+        );
+        for warning in warnings {
+            if !self.warnings.contains(&warning) {
+                self.warnings.push(warning);
+            }
+        }
+        let file_node = values::required(&self.src, entries, item.pos, "file", "an obj")?;
+        let Some(file) = file_node.scalar() else {
+            return Err(self.src.invalid(file_node.pos, "'file' must be the path of an .obj file"));
+        };
+        let path = self.src.dir.join(file);
+        let import = crate::mesh::load_mesh(&path).map_err(|e| {
+            SceneError::new(
+                SceneErrorKind::Io,
+                self.src.name.clone(),
+                file_node.pos.line,
+                file_node.pos.column,
+                format!("cannot load '{file}': {e}"),
+            )
+        })?;
+        self.desc.meshes.push(crate::mesh::merged(&import, file, &path.display().to_string()));
+        let index = self.desc.meshes.len() - 1;
+        let shape = ShapeDesc::Mesh { index };
+        let material = self.material(values::get(entries, "material").or(inherited), shape, "obj", item.pos)?;
+        let transform = match values::get(entries, "transform") {
+            Some(t) => self.transform(t, "transform")?,
+            None => Vec::new(),
+        };
+        self.count_nodes(item.pos, 1)?;
+        Ok(Some(NodeDesc { transform, kind: NodeKind::Shape { shape, material }, origin: self.src.origin(item.pos) }))
     }
 }
 

@@ -14,6 +14,8 @@ pub type Result<T> = std::result::Result<T, SceneError>;
 pub struct Src {
     /// The file as it appears in messages and node origins.
     pub name: String,
+    /// The folder relative file names (OBJ files) start from.
+    pub dir: std::path::PathBuf,
 }
 
 impl Src {
