@@ -24,7 +24,7 @@ const MAX_INCLUDE_DEPTH: usize = 32;
 pub const MAX_NODES: usize = 1_000_000;
 
 /// Node names allowed at the top level of a file, for the "expected one of" message.
-const TOP_LEVEL: [&str; 25] = [
+const TOP_LEVEL: [&str; 26] = [
     "settings",
     "camera",
     "texture",
@@ -34,6 +34,7 @@ const TOP_LEVEL: [&str; 25] = [
     "use",
     "include",
     "group",
+    "moving",
     "sphere",
     "cube",
     "cylinder",
