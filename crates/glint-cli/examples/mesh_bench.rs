@@ -67,6 +67,7 @@ fn main() -> Result<(), String> {
     let mut report = vec![
         format!("\"triangles\": {}", mesh.triangles.len()),
         format!("\"bvh_nodes\": {}", mesh.bvh.nodes.len()),
+        format!("\"triangle_packets\": {}", mesh.packets.len()),
         format!("\"build_s\": {build_s}"),
     ];
     for (name, rays, reference) in [("coherent", &coherent, &embree_t[0]), ("incoherent", &incoherent, &embree_t[1])] {

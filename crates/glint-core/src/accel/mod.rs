@@ -4,4 +4,4 @@ mod bvh;
 mod bvh4;
 
 pub use bvh::{Bvh, BvhNode};
-pub use bvh4::{Bvh4, Bvh4Node};
+pub use bvh4::{Bvh4, Bvh4Node, EMPTY};

@@ -76,6 +76,7 @@ fn shared_edges_and_vertices_are_hit_exactly_once() {
                     // The BVH finds it too, with nothing culled at the box boundaries.
                     let hit = mesh.intersect(&Ray::new(origin, d), f32::INFINITY);
                     assert!(hit.is_some_and(|h| (h.t - 7.0).abs() < 1e-3), "BVH at ({x}, {y}), dir {d}");
+                    assert!(mesh.occluded(&Ray::new(origin, d), f32::INFINITY), "any hit at ({x}, {y}), dir {d}");
                 }
             }
         }

@@ -14,12 +14,12 @@ use crate::math::Ray;
 /// A ray prepared for [`intersect`]: the axis permutation and shear of the paper's §3.
 #[derive(Clone, Copy, Debug)]
 pub struct WatertightRay {
-    origin: Vec3,
+    pub(super) origin: Vec3,
     /// The axis of largest |d| is `kz`; `kx`, `ky` follow it, swapped when `d_kz < 0`
     /// so the winding of triangles is kept.
-    k: [usize; 3],
+    pub(super) k: [usize; 3],
     /// `S_x = d_kx/d_kz`, `S_y = d_ky/d_kz`, `S_z = 1/d_kz`.
-    shear: Vec3,
+    pub(super) shear: Vec3,
 }
 
 impl WatertightRay {
