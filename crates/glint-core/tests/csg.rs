@@ -254,8 +254,10 @@ proptest! {
                 let after = tree.inside(ray.at(hit.t + 1e-3).as_dvec3());
                 let n = hit.normal.as_dvec3();
                 let p = hit.point.as_dvec3();
-                if before != after {
-                    let d = ray.dir.normalize().as_dvec3();
+                let d = ray.dir.normalize().as_dvec3();
+                // A grazing hit (far along an infinite half-space, say) flips membership
+                // within the probe's ±1e-3 only by rounding: there orientation means nothing.
+                if before != after && n.dot(d).abs() > 0.05 {
                     // Entering: the normal faces the ray; leaving: it goes along.
                     prop_assert_eq!(n.dot(d) < 0.0, after, "normal {:?} at t {}", n, hit.t);
                     prop_assert!(!tree.inside(p + n * 1e-3) || tree.inside(p - n * 1e-3));

@@ -55,7 +55,9 @@ fn unknown_property_lists_the_allowed_ones() {
 #[test]
 fn unknown_top_level_node_lists_the_allowed_ones() {
     let e = assert_error("\n\nspere {}", 3, 1, "unknown node 'spere' at the top level");
-    assert!(e.message.contains("settings, camera, texture, material, light, define, use, include, group, moving, sphere"));
+    assert!(
+        e.message.contains("settings, camera, texture, material, light, define, use, include, group, moving, sphere")
+    );
     assert_error("group { material \"x\" }", 1, 9, "unknown node 'material' in 'group'");
 }
 
