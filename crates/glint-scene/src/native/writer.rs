@@ -10,8 +10,8 @@ use std::path::{Component, Path, PathBuf};
 
 use glam::{Vec2, Vec3};
 use glint_core::desc::{
-    AreaShape, CameraDesc, FilterKind, LightDesc, MaterialDesc, NodeDesc, NodeKind, RenderSettings, SamplePattern,
-    SceneDesc, ShapeDesc, TextureDesc, Transfer, TransformOp,
+    AreaShape, BlobComponentShape, CameraDesc, FilterKind, LightDesc, MaterialDesc, MeshDesc, NodeDesc, NodeKind,
+    RenderSettings, SamplePattern, SceneDesc, SetOp, ShapeDesc, SolidDesc, TextureDesc, Transfer, TransformOp,
 };
 
 use super::tree::MAX_NESTING;
@@ -56,7 +56,7 @@ pub struct Written {
 /// that is not finite, an image texture without a source file, a material index out of
 /// range, or groups nested deeper than the format allows.
 pub fn write_scene(desc: &SceneDesc, options: &WriteOptions) -> Result<Written, WriteError> {
-    let mut w = Writer { out: String::new(), warnings: Vec::new() };
+    let mut w = Writer { out: String::new(), warnings: Vec::new(), mesh_names: Vec::new() };
     if let Some(comment) = &options.comment {
         for line in comment.lines() {
             w.line(0, &format!("# {line}"));
@@ -82,6 +82,13 @@ pub fn write_scene(desc: &SceneDesc, options: &WriteOptions) -> Result<Written, 
     if !desc.lights.is_empty() {
         w.out.push('\n');
     }
+    w.mesh_names = unique_names(desc.meshes.iter().map(|m| m.name.as_str()), "mesh");
+    for (index, mesh) in desc.meshes.iter().enumerate() {
+        w.mesh(mesh, index, &desc.meshes, options.base_dir.as_deref())?;
+    }
+    if !desc.meshes.is_empty() {
+        w.out.push('\n');
+    }
     for node in &desc.objects {
         w.node(node, 0, &material_names)?;
     }
@@ -91,6 +98,8 @@ pub fn write_scene(desc: &SceneDesc, options: &WriteOptions) -> Result<Written, 
 struct Writer {
     out: String,
     warnings: Vec<String>,
+    /// The names the meshes are written under, by index.
+    mesh_names: Vec<String>,
 }
 
 impl Writer {
@@ -366,6 +375,122 @@ impl Writer {
         Ok(())
     }
 
+    /// `mesh "name" { file "…" }`: a .glint file refers to mesh files, so a mesh must
+    /// be the whole content of a file (as `mesh` definitions and course meshes are).
+    fn mesh(
+        &mut self,
+        mesh: &MeshDesc,
+        index: usize,
+        all: &[MeshDesc],
+        base_dir: Option<&Path>,
+    ) -> Result<(), WriteError> {
+        let name = &self.mesh_names[index];
+        if mesh.path.is_empty() {
+            return fail(format!(
+                "mesh '{name}' was built in code, not read from a file; a .glint file can only name mesh files"
+            ));
+        }
+        if all.iter().filter(|m| m.path == mesh.path).count() > 1 {
+            return fail(format!(
+                "the file {} holds several meshes (one per material); a .glint `mesh` reads a file as one mesh",
+                mesh.path
+            ));
+        }
+        let file = texture_file(Path::new(&mesh.path), base_dir);
+        self.line(0, &format!("mesh {} {{ file {} }}", quote(name), quote(&file)));
+        Ok(())
+    }
+
+    /// CSG, blobs, implicit surfaces, quadrics and superellipsoids, in the syntax of
+    /// docs/scene-format.md.
+    fn solid(
+        &mut self,
+        solid: &SolidDesc,
+        statements: Vec<String>,
+        depth: usize,
+        materials: &[String],
+        origin: &str,
+    ) -> Result<(), WriteError> {
+        let material = |index: usize| -> Result<String, WriteError> {
+            match materials.get(index) {
+                Some(name) => Ok(format!("material {}", quote(name))),
+                None => fail(format!("the object at {origin} uses material {index}, which the scene lacks")),
+            }
+        };
+        let what = format!("solid at {origin}");
+        let mut parts = Vec::new();
+        let keyword = match solid {
+            SolidDesc::Csg { op, children } => {
+                let keyword = match op {
+                    SetOp::Union => "union",
+                    SetOp::Intersection => "intersection",
+                    SetOp::Difference => "difference",
+                };
+                self.line(depth, &format!("{keyword} {{"));
+                for s in &statements {
+                    self.line(depth + 1, s);
+                }
+                for child in children {
+                    self.node(child, depth + 1, materials)?;
+                }
+                self.line(depth, "}");
+                return Ok(());
+            }
+            SolidDesc::Blob { blob, material: m } => {
+                parts.push(material(*m)?);
+                parts.push(format!("threshold {}", num(blob.threshold, &what)?));
+                for c in &blob.components {
+                    let mut fields = match c.shape {
+                        BlobComponentShape::Sphere { center, radius } => {
+                            vec![
+                                format!("component sphere {{ center {}", vec3(center, &what)?),
+                                format!("radius {}", num(radius, &what)?),
+                            ]
+                        }
+                        BlobComponentShape::Cylinder { from, to, radius } => vec![
+                            format!("component cylinder {{ from {}", vec3(from, &what)?),
+                            format!("to {}", vec3(to, &what)?),
+                            format!("radius {}", num(radius, &what)?),
+                        ],
+                    };
+                    fields.push(format!("strength {}", num(c.strength, &what)?));
+                    for op in &c.transform {
+                        fields.push(transform(op, origin)?);
+                    }
+                    parts.push(format!("{} }}", fields.join("  ")));
+                }
+                "blob"
+            }
+            SolidDesc::Implicit { implicit, material: m } => {
+                parts.push(material(*m)?);
+                parts.push(format!("function {}", quote(&implicit.function)));
+                let [lo, hi] = implicit.bounds;
+                parts.push(format!("bounds {} {}", vec3(lo, &what)?, vec3(hi, &what)?));
+                if let Some(l) = implicit.lipschitz {
+                    parts.push(format!("lipschitz {}", num(l, &what)?));
+                }
+                "implicit"
+            }
+            SolidDesc::Quadric { coefficients, bounds, material: m } => {
+                parts.push(material(*m)?);
+                let c = coefficients.iter().map(|&x| num(x, &what)).collect::<Result<Vec<_>, _>>()?;
+                parts.push(format!("coefficients [{}]", c.join(" ")));
+                if let Some([lo, hi]) = bounds {
+                    parts.push(format!("bounds {} {}", vec3(*lo, &what)?, vec3(*hi, &what)?));
+                }
+                "quadric"
+            }
+            SolidDesc::Superellipsoid { e1, e2, material: m } => {
+                parts.push(material(*m)?);
+                parts.push(format!("exponents [{} {}]", num(*e1, &what)?, num(*e2, &what)?));
+                "superellipsoid"
+            }
+        };
+        parts.extend(statements);
+        self.line(depth, &format!("{keyword} {{ {} }}", parts.join("  ")));
+        Ok(())
+    }
+
     fn node(&mut self, node: &NodeDesc, depth: usize, materials: &[String]) -> Result<(), WriteError> {
         if depth >= MAX_NESTING {
             return fail(format!(
@@ -388,21 +513,24 @@ impl Writer {
                         materials.len()
                     ));
                 };
-                let (keyword, extra) = match *shape {
-                    ShapeDesc::Sphere => ("sphere", None),
-                    ShapeDesc::Cube => ("cube", None),
-                    ShapeDesc::Cylinder => ("cylinder", None),
-                    ShapeDesc::Cone => ("cone", None),
-                    ShapeDesc::Plane => ("plane", None),
-                    ShapeDesc::Disk => ("disk", None),
+                let (keyword, extra): (String, Option<String>) = match *shape {
+                    ShapeDesc::Sphere => ("sphere".into(), None),
+                    ShapeDesc::Cube => ("cube".into(), None),
+                    ShapeDesc::Cylinder => ("cylinder".into(), None),
+                    ShapeDesc::Cone => ("cone".into(), None),
+                    ShapeDesc::Plane => ("plane".into(), None),
+                    ShapeDesc::Disk => ("disk".into(), None),
                     ShapeDesc::Torus { minor_radius } => {
-                        ("torus", Some(format!("minor_radius {}", num(minor_radius, "torus minor_radius")?)))
+                        ("torus".into(), Some(format!("minor_radius {}", num(minor_radius, "torus minor_radius")?)))
                     }
-                    ShapeDesc::Mesh { .. } => {
-                        return fail(format!(
-                            "the object at {} is a triangle mesh, which cannot be written yet",
-                            node.origin
-                        ));
+                    ShapeDesc::Mesh { index } => {
+                        let Some(name) = self.mesh_names.get(index) else {
+                            return fail(format!(
+                                "the object at {} uses mesh {index}, which the scene lacks",
+                                node.origin
+                            ));
+                        };
+                        (format!("mesh_instance {}", quote(name)), None)
                     }
                 };
                 let mut parts = vec![format!("material {}", quote(material_name))];
@@ -410,12 +538,7 @@ impl Writer {
                 parts.extend(statements);
                 self.line(depth, &format!("{keyword} {{ {} }}", parts.join("  ")));
             }
-            NodeKind::Solid(_) => {
-                return fail(format!(
-                    "the object at {} is a CSG or implicit solid, which cannot be written as .glint yet",
-                    node.origin
-                ));
-            }
+            NodeKind::Solid(solid) => self.solid(solid, statements, depth, materials, &node.origin)?,
             NodeKind::Group(children) => {
                 self.line(depth, "group {");
                 for s in &statements {
@@ -615,7 +738,22 @@ fn nodes_difference(a: &[NodeDesc], b: &[NodeDesc]) -> Option<String> {
             ));
         }
         match (&x.kind, &y.kind) {
-            (NodeKind::Group(xs), NodeKind::Group(ys)) => {
+            (NodeKind::Group(xs), NodeKind::Group(ys))
+            | (
+                NodeKind::Solid(SolidDesc::Csg { children: xs, .. }),
+                NodeKind::Solid(SolidDesc::Csg { children: ys, .. }),
+            )
+            | (NodeKind::Moving { children: xs, .. }, NodeKind::Moving { children: ys, .. }) => {
+                let same_kind = match (&x.kind, &y.kind) {
+                    (NodeKind::Solid(SolidDesc::Csg { op: a, .. }), NodeKind::Solid(SolidDesc::Csg { op: b, .. })) => {
+                        a == b
+                    }
+                    (NodeKind::Moving { close: a, .. }, NodeKind::Moving { close: b, .. }) => a == b,
+                    _ => true,
+                };
+                if !same_kind {
+                    return Some(format!("the object at {} differs in its operation or motion", x.origin));
+                }
                 if let Some(d) = nodes_difference(xs, ys) {
                     return Some(d);
                 }
