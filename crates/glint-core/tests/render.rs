@@ -144,9 +144,8 @@ fn opaque_occluders_cast_shadows_and_transparent_ones_filter() {
     let lit = MaterialDesc { diffuse: Vec3::ONE, ambient: Some(Vec3::ZERO), ..black() };
     let mut desc = facing_plane(lit, vec![light_at(0.0)], Vec3::ZERO, Vec3::ZERO);
     assert_close(pixel(&desc), Vec3::ONE);
-    // A disk between the plane and the light, off the camera's view? The camera looks
-    // through it too, so make it a pane the camera sees through unchanged: ior 1, kt 1,
-    // but Ot = 0.5 halves both the light and the view; check both separately below.
+    // A pane (a disk, ior 1, k_t·O_t = 0.5) between the plane and the light, which the
+    // camera also looks through: it halves the light once and the view once.
     desc.materials.push(MaterialDesc { kt: 1.0, transmissive: Vec3::splat(0.5), ..black() });
     desc.objects.push(node(
         ShapeDesc::Disk,
