@@ -15,6 +15,7 @@
 //! shared by both neighbours, so the crossings of adjacent segments always alternate:
 //! no speckles where one segment's rounding disagrees with the next.
 
+use crate::shape::span::pair_crossings;
 use std::cell::RefCell;
 
 use bytemuck::NoUninit;
@@ -338,16 +339,7 @@ impl Primitive for BlobShape<'_> {
 
 impl Solid for BlobShape<'_> {
     fn spans(&self, ray: &Ray, out: &mut Vec<Span>) {
-        let mut enter = None;
-        self.crossings(ray, |t, entering| {
-            let here = ShapeHit { t: t as f32, part: 0 };
-            if entering {
-                enter = Some(here);
-            } else if let Some(e) = enter.take().filter(|e| e.t < here.t) {
-                out.push(Span { enter: e, exit: here });
-            }
-            true
-        });
+        self.crossings(ray, pair_crossings(out, &mut None, 0));
     }
 }
 

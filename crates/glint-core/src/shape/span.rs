@@ -19,6 +19,26 @@ pub struct Span {
     pub exit: ShapeHit,
 }
 
+/// A `visit` callback for a numerical solver's crossings (nearest first): an entering
+/// crossing opens a span at surface `part`, the next leaving one closes it into `out`.
+/// `enter` may start open (the ray starts inside); whatever is still open afterwards is
+/// left in it for the caller to close.
+pub(crate) fn pair_crossings<'a>(
+    out: &'a mut Vec<Span>,
+    enter: &'a mut Option<ShapeHit>,
+    part: u32,
+) -> impl FnMut(f64, bool) -> bool + 'a {
+    move |t, entering| {
+        let here = ShapeHit { t: t as f32, part };
+        if entering {
+            *enter = Some(here);
+        } else if let Some(e) = enter.take().filter(|e| e.t < here.t) {
+            out.push(Span { enter: e, exit: here });
+        }
+        true
+    }
+}
+
 impl Span {
     pub const fn new(t_in: f32, part_in: u32, t_out: f32, part_out: u32) -> Self {
         Span { enter: ShapeHit { t: t_in, part: part_in }, exit: ShapeHit { t: t_out, part: part_out } }

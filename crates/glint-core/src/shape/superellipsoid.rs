@@ -12,6 +12,7 @@
 //! and farthest from the axis planes, and the sign of each partial derivative is the sign
 //! of its coordinate, which gives monotonic pieces for free.
 
+use crate::shape::span::pair_crossings;
 use bytemuck::NoUninit;
 use glam::{DVec3, Vec3};
 
@@ -149,16 +150,7 @@ impl Primitive for Superellipsoid {
 impl Solid for Superellipsoid {
     fn spans(&self, ray: &Ray, out: &mut Vec<Span>) {
         let Some(b) = self.box_span(ray) else { return };
-        let mut enter = None;
-        crossings(&self.along(ray), b.enter.t as f64, b.exit.t as f64, |t, entering| {
-            let here = ShapeHit { t: t as f32, part: 0 };
-            if entering {
-                enter = Some(here);
-            } else if let Some(e) = enter.take().filter(|e| e.t < here.t) {
-                out.push(Span { enter: e, exit: here });
-            }
-            true
-        });
+        crossings(&self.along(ray), b.enter.t as f64, b.exit.t as f64, pair_crossings(out, &mut None, 0));
     }
 }
 

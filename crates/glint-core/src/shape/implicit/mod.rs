@@ -10,6 +10,7 @@ pub mod interval;
 pub mod parse;
 pub mod solve;
 
+use crate::shape::span::pair_crossings;
 use bytemuck::NoUninit;
 use glam::{DVec3, Vec3};
 
@@ -145,15 +146,7 @@ impl Solid for ImplicitShape<'_> {
         let f = self.along(ray);
         let (t0, t1) = (b.enter.t as f64, b.exit.t as f64);
         let mut enter = inside(f.value(t0)).then_some(b.enter);
-        crossings(&f, t0, t1, |t, entering| {
-            let here = ShapeHit { t: t as f32, part: SURFACE };
-            if entering {
-                enter = Some(here);
-            } else if let Some(e) = enter.take().filter(|e| e.t < here.t) {
-                out.push(Span { enter: e, exit: here });
-            }
-            true
-        });
+        crossings(&f, t0, t1, pair_crossings(out, &mut enter, SURFACE));
         if let Some(e) = enter.filter(|e| e.t < b.exit.t) {
             out.push(Span { enter: e, exit: b.exit });
         }
