@@ -6,11 +6,14 @@ Embree's timings. Layout of scene.bin, little-endian:
   f32[V*3] positions, u32[T*3] indices, f32[C*6] coherent rays (origin, direction),
   f32[I*6] incoherent rays, then f32[C] and f32[I]: Embree's closest t (inf = miss).
 """
+import ctypes
 import json
+import os
 import sys
 import time
 
 import numpy as np
+from embreex import rtcore as rtc
 from embreex import rtcore_scene as rtcs
 from embreex.mesh_construction import TriangleMesh
 
@@ -64,16 +67,59 @@ def timed(f, repeats=3):
     return best, out
 
 
+def resident_bytes():
+    """The process's resident set now: /proc/self/statm's second field, in pages."""
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+
+
+def release_free_heap():
+    """Returns the heap's free pages to the OS (glibc's malloc_trim), so that the resident
+    set counts what is in use rather than what the allocator kept; a no-op elsewhere."""
+    try:
+        ctypes.CDLL("libc.so.6").malloc_trim(0)
+    except (OSError, AttributeError):
+        pass
+
+
+def embree_memory(pos, tris32):
+    """Resident-set growth, in bytes, from before an Embree scene over the mesh is made
+    to after it is committed, with the scene still alive (as it stands, after freed heap
+    is given back to the OS). It counts Embree's own copy of the vertex and index buffers
+    (embreex fills buffers that Embree allocates with rtcSetNewGeometryBuffer; it does not
+    share numpy's memory) plus the BVH and its triangle leaves. A one-triangle scene is
+    committed first on the same device, so Embree's threads and fixed allocations are
+    not counted."""
+    device = rtc.EmbreeDevice()
+    probe_o = np.array([[0.2, 0.2, 1.0]], dtype=np.float32)
+    probe_d = np.array([[0.0, 0.0, -1.0]], dtype=np.float32)
+    warm = rtcs.EmbreeScene(device)
+    one = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], dtype=np.float32)
+    TriangleMesh(warm, one, np.array([[0, 1, 2]], dtype=np.int32))
+    warm.run(probe_o, probe_d)
+    release_free_heap()
+    before = resident_bytes()
+    scene = rtcs.EmbreeScene(device)
+    TriangleMesh(scene, pos, tris32)
+    scene.run(probe_o, probe_d)
+    grown = resident_bytes() - before
+    release_free_heap()
+    grown_trimmed = resident_bytes() - before
+    del scene, warm
+    return grown, grown_trimmed
+
+
 def main():
     out_dir = sys.argv[1]
     n_lat, n_lon, side, n_random = 500, 1000, 1024, 1 << 20
     pos, tris = displaced_sphere(n_lat, n_lon)
+    tris32 = tris.astype(np.int32)
+    # Memory is measured first, before the rays and timed builds have grown the heap.
+    rss_growth, rss_growth_trimmed = embree_memory(pos, tris32)
     co, cd = coherent_rays(side)
     io, idir = incoherent_rays(n_random, np.random.default_rng(7))
 
     # Build: geometry upload plus the commit, which embreex does on the first query.
-    tris32 = tris.astype(np.int32)
-
     def build_scene():
         scene = rtcs.EmbreeScene()
         TriangleMesh(scene, pos, tris32)
@@ -82,7 +128,8 @@ def main():
 
     build, scene = timed(build_scene)
 
-    results = {"triangles": int(len(tris)), "build_s": build}
+    results = {"triangles": int(len(tris)), "build_s": build, "rss_growth_bytes": rss_growth,
+               "rss_growth_trimmed_bytes": rss_growth_trimmed}
     t_hits = {}
     for name, (o, d) in {"coherent": (co, cd), "incoherent": (io, idir)}.items():
         secs, hit = timed(lambda: scene.run(o, d, output=1))

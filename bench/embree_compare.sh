@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # glint's mesh BVH against Embree (through the embreex Python bindings) on the same
 # ~1M-triangle mesh and the same rays: build time and rays per CPU-second for coherent
-# (camera) and incoherent (random) rays, closest hit and any hit, as glint/Embree ratios.
+# (camera) and incoherent (random) rays, closest hit and any hit, as glint/Embree ratios;
+# and memory per triangle (glint's exact array bytes, and both processes' resident-set
+# growth around one build).
 # The obvhs column is the obvhs crate's CWBVH over the same triangles, with glint's triangle test.
 #
 # Usage: bench/embree_compare.sh [work dir, default /tmp/glint-embree-bench]
@@ -32,6 +34,13 @@ row("BVH build", "build_s", 1, "s (lower is better)")
 for kind in ["coherent", "incoherent"]:
     for query, label in [("closest", "closest hit"), ("any", "any hit")]:
         row(f"{kind} rays, {label}", f"{kind}_{query}_rays_per_s", 1e6, "Mrays/s (higher is better)")
+t = g["triangles"]
+print("memory, bytes per triangle (same mesh):")
+print(f"  glint Mesh::memory_bytes (exact array bytes)       {g['memory_bytes'] / t:8.1f}")
+for key, label in [("rss_growth_trimmed_bytes", "resident growth, free heap returned"),
+                   ("rss_growth_bytes", "resident growth, as it stands")]:
+    print(f"  {label:48} glint {g[key] / t:6.1f}  Embree {e[key] / t:6.1f}  glint/Embree {g[key] / e[key]:.2f}")
+print(f"  glint exact / Embree resident (free heap returned) {g['memory_bytes'] / e['rss_growth_trimmed_bytes']:.2f}")
 for kind in ["coherent", "incoherent"]:
     print(f"{kind}: hit fraction glint {g[kind + '_hit_fraction']:.4f} / obvhs {g['obvhs_' + kind + '_hit_fraction']:.4f}"
           f" / Embree {e[kind + '_hit_fraction']:.4f}; rays whose closest hit differs from Embree's: "

@@ -35,6 +35,28 @@ fn cpu_seconds(wall: Instant) -> f64 {
         .map_or_else(|| wall.elapsed().as_secs_f64(), |ns| ns * 1e-9)
 }
 
+/// The process's resident set in bytes (Linux's `/proc/self/statm`, second field, in
+/// 4 KiB pages), or 0 where that file is missing.
+fn resident_bytes() -> usize {
+    std::fs::read_to_string("/proc/self/statm")
+        .ok()
+        .and_then(|s| s.split_whitespace().nth(1)?.parse::<usize>().ok())
+        .map_or(0, |pages| pages * 4096)
+}
+
+/// Returns the heap's free pages to the OS (glibc's `malloc_trim`), so that the resident
+/// set counts what is in use rather than what the allocator kept; a no-op elsewhere.
+fn release_free_heap() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    {
+        unsafe extern "C" {
+            fn malloc_trim(pad: usize) -> i32;
+        }
+        // SAFETY: glibc's malloc_trim takes a byte count and only touches the allocator's own state.
+        unsafe { malloc_trim(0) };
+    }
+}
+
 fn best_of_3<T>(mut f: impl FnMut() -> T) -> (f64, T) {
     let mut best = f64::INFINITY;
     let mut out = None;
@@ -62,12 +84,27 @@ fn main() -> Result<(), String> {
     let embree_t = [floats(&bytes, &mut at, c), floats(&bytes, &mut at, i)];
     let desc = MeshDesc { positions, indices, ..Default::default() };
 
+    // Memory first, before the timed builds have grown the heap: the compiled mesh's
+    // exact array bytes, and as a cross-check the resident-set growth around one build
+    // with the mesh still alive, both as it stands (build scratch the allocator kept
+    // counts) and after handing freed heap back to the OS.
+    release_free_heap();
+    let before = resident_bytes();
+    let mesh = Mesh::compile(&desc).map_err(|e| e.to_string())?;
+    let rss_growth = resident_bytes().saturating_sub(before);
+    release_free_heap();
+    let rss_growth_trimmed = resident_bytes().saturating_sub(before);
+    let memory = mesh.memory_bytes();
+    drop(mesh);
     let (build_s, mesh) = best_of_3(|| Mesh::compile(&desc));
     let mesh = mesh.map_err(|e| e.to_string())?;
     let mut report = vec![
         format!("\"triangles\": {}", mesh.triangles.len()),
         format!("\"bvh_nodes\": {}", mesh.bvh.nodes.len()),
         format!("\"triangle_packets\": {}", mesh.packets.len()),
+        format!("\"memory_bytes\": {memory}"),
+        format!("\"rss_growth_bytes\": {rss_growth}"),
+        format!("\"rss_growth_trimmed_bytes\": {rss_growth_trimmed}"),
         format!("\"build_s\": {build_s}"),
     ];
     for (name, rays, reference) in [("coherent", &coherent, &embree_t[0]), ("incoherent", &incoherent, &embree_t[1])] {

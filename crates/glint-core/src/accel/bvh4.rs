@@ -54,7 +54,8 @@ pub struct Bvh4 {
 }
 
 /// Most entries the traversal stack can hold: each level pops one entry and pushes at
-/// most four, and the binary BVH is at most 60 levels deep (so this one at most 60).
+/// most three (the nearest of four hit children is not pushed), and the binary BVH is
+/// at most 60 levels deep (so this one at most 60).
 const STACK: usize = 3 * 64 + 4;
 
 impl Bvh4 {
@@ -96,10 +97,21 @@ impl Bvh4 {
         let (ox, oy, oz) = (Vec4::splat(ray.origin.x), Vec4::splat(ray.origin.y), Vec4::splat(ray.origin.z));
         // (index, count, entry distance); count 0 = inner node.
         let mut stack = [(0u32, 0u32, 0.0f32); STACK];
-        let mut top = 1;
-        while top > 0 {
-            top -= 1;
-            let (index, count, t_enter) = stack[top];
+        let mut top = 0;
+        let mut next = Some((0u32, 0u32, 0.0f32));
+        loop {
+            // The nearest child the last node hit is visited straight away instead of
+            // being pushed and at once popped again; with that, and the other hits pushed
+            // one by one instead of by a `memcpy` call, traversal got 1.25–1.47× faster
+            // (docs/performance.md). Otherwise the top of the stack.
+            let (index, count, t_enter) = match next.take() {
+                Some(entry) => entry,
+                None if top > 0 => {
+                    top -= 1;
+                    stack[top]
+                }
+                None => return,
+            };
             if t_enter > *t_max {
                 continue;
             }
@@ -123,7 +135,8 @@ impl Bvh4 {
                 continue;
             }
             let near = near.to_array();
-            // Push the hit children farthest first, so the nearest is popped next.
+            // Sort the hit children farthest first: all but the nearest are pushed, so the
+            // nearest of them is popped first.
             let mut hits = [(0u32, 0u32, 0.0f32); 4];
             let mut k = 0;
             for (lane, &t_near) in near.iter().enumerate() {
@@ -139,8 +152,15 @@ impl Bvh4 {
                     k += 1;
                 }
             }
-            stack[top..top + k].copy_from_slice(&hits[..k]);
-            top += k;
+            if k == 0 {
+                continue;
+            }
+            // One by one: at most three entries, too few to be worth a `memcpy` call.
+            for &entry in &hits[..k - 1] {
+                stack[top] = entry;
+                top += 1;
+            }
+            next = Some(hits[k - 1]);
         }
     }
 }

@@ -259,13 +259,15 @@ impl Mesh {
         MeshSurface { surface: SurfacePoint { point, normal, uv }, geometric, shadow_point }
     }
 
-    /// Bytes held by the arrays (for reports).
+    /// Heap bytes of the compiled mesh: each array's length times its element size
+    /// (vertices, attributes, indices, triangle packets, BVH nodes), unused capacity not
+    /// counted. What `bench/embree_compare.sh` compares with Embree's memory per triangle.
     pub fn memory_bytes(&self) -> usize {
         use std::mem::size_of;
         self.positions.len() * size_of::<Vec3>()
             + self.normals.len() * size_of::<Vec3>()
             + self.uvs.len() * size_of::<Vec2>()
-            + self.triangles.len() * 12
+            + self.triangles.len() * size_of::<[u32; 3]>()
             + self.packets.len() * size_of::<Triangle4>()
             + self.bvh.nodes.len() * size_of::<crate::accel::Bvh4Node>()
     }
