@@ -5,7 +5,8 @@ use std::borrow::Cow;
 use bytemuck::NoUninit;
 use glam::{Mat4, Vec2, Vec3};
 
-use crate::accel::Bvh;
+use crate::accel::lanes::Portable;
+use crate::accel::{Bvh, Order, WideBvh};
 use crate::camera::Camera;
 use crate::desc::{AdaptiveDesc, Features, NodeDesc, NodeKind, SceneDesc, ShapeDesc, TransformOp};
 use crate::light::Light;
@@ -59,7 +60,7 @@ pub struct RenderScene {
     pub camera: Camera,
     pub instances: Vec<Instance>,
     pub bounded_count: usize,
-    pub bvh: Bvh,
+    pub bvh: WideBvh,
     /// Triangle meshes, each stored once; instances of kind `Mesh` index into it.
     pub meshes: Vec<Mesh>,
     /// Flat records of CSG trees, blobs, implicit surfaces, quadrics and
@@ -179,7 +180,8 @@ pub fn compile(desc: &SceneDesc) -> Result<RenderScene, CompileError> {
     let world_bounds = |inst: &Instance| instance_bounds(inst, &meshes, &shape_tables, &motions);
     let (bounded, unbounded): (Vec<_>, Vec<_>) = flat.into_iter().partition(|inst| world_bounds(inst).is_finite());
     let boxes: Vec<Aabb> = bounded.iter().map(world_bounds).collect();
-    let (bvh, order) = Bvh::build(&boxes);
+    let (binary, order) = Bvh::build(&boxes);
+    let bvh = WideBvh::from_binary(&binary);
     let bounded_count = bounded.len();
     let mut instances: Vec<Instance> = order.iter().map(|&i| bounded[i as usize]).collect();
     instances.extend(unbounded);
@@ -418,7 +420,7 @@ impl RenderScene {
             }
             false
         };
-        self.bvh.traverse(ray, &mut t_max, &mut test);
+        self.bvh.traverse_with::<Portable, _>(Order::NearestFirst, &self.instances, ray, &mut t_max, &mut test);
         for index in self.bounded_count..self.instances.len() {
             test(index as u32, &mut t_max);
         }
@@ -459,7 +461,7 @@ impl RenderScene {
             }
         };
         let mut blocked = false;
-        self.bvh.traverse(ray, &mut t_max.clone(), |i, t| {
+        self.bvh.traverse_with::<Portable, _>(Order::Any, &self.instances, ray, &mut t_max.clone(), |i, t| {
             blocked = hits(i, t);
             blocked
         });

@@ -29,23 +29,53 @@ impl BvhNode {
 
 /// The hierarchy over primitives `0..n`; [`Bvh::build`] returns the order in which the
 /// caller must store its primitives so that each leaf covers a contiguous range.
+///
+/// It is split down to leaves of one block, further than the SAH would stop, and each
+/// node records in [`Bvh::spans`] whether the SAH finds one leaf of it cheaper: the
+/// collapse to [`super::WideBvh`] opens nodes past that point to fill its eight slots,
+/// as Embree's builders do, and ends a branch where the SAH asks for a leaf.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Bvh {
+    /// Slot 0 is the root; a subtree of `n` primitives owns `2n − 2` slots after its
+    /// children, so subtrees build in parallel without sharing any. Slots a subtree did
+    /// not need stay zeroed and unreferenced.
     pub nodes: Vec<BvhNode>,
+    /// Per node: its primitives and whether a leaf of them is what the SAH prefers.
+    pub spans: Vec<Span>,
+}
+
+/// The primitives under one node.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Span {
+    pub first: u32,
+    pub count: u32,
+    /// The SAH finds one leaf of these cheaper than any split (always true of a leaf).
+    pub leaf: bool,
 }
 
 const BINS: usize = 16;
-const MAX_LEAF: usize = 8;
+/// Largest leaf the SAH may choose, in blocks.
+const MAX_LEAF_BLOCKS: usize = 2;
 /// Cost of one traversal step relative to one primitive intersection.
 const TRAVERSAL_COST: f32 = 1.0;
 /// Deeper subtrees become leaves, so the traversal stack (one entry per level) can
 /// never overflow, however unbalanced the SAH splits.
 const MAX_DEPTH: usize = 60;
+/// Subtrees with more primitives than this build their two halves in parallel.
+const PARALLEL_ABOVE: usize = 4096;
 
+#[derive(Clone, Copy)]
 struct BuildItem {
     bounds: Aabb,
     centroid: Vec3,
     index: u32,
+}
+
+/// What one subtree build needs to know besides its primitives.
+#[derive(Clone, Copy)]
+struct Params {
+    block: usize,
+    max_leaf: usize,
 }
 
 impl Bvh {
@@ -56,20 +86,28 @@ impl Bvh {
 
     /// As [`Bvh::build`], for primitives a leaf tests `block` at a time (a mesh's
     /// four-triangle packets): the SAH charges a leaf of `n` primitives `⌈n/block⌉`
-    /// intersections, as Embree's builders do for their `Triangle4` leaves.
+    /// intersections, as Embree's builders do for their `Triangle4` leaves, and leaves
+    /// hold at most one block unless the SAH prefers a bigger one. Subtrees build in
+    /// parallel on rayon's pool.
     pub fn build_blocks(bounds: &[Aabb], block: usize) -> (Bvh, Vec<u32>) {
         let block = block.max(1);
+        let params = Params { block, max_leaf: MAX_LEAF_BLOCKS * block.max(4) };
         let mut items: Vec<BuildItem> = bounds
             .iter()
             .enumerate()
             .map(|(i, b)| BuildItem { bounds: *b, centroid: b.center(), index: i as u32 })
             .collect();
-        let mut nodes = Vec::with_capacity(2 * bounds.len().max(1));
-        if !items.is_empty() {
-            nodes.resize(2, BvhNode::zeroed());
-            build_node(&mut items, 0, 0, &mut nodes, 0, block);
+        let n = items.len();
+        if n == 0 {
+            return (Bvh::default(), vec![]);
         }
-        (Bvh { nodes }, items.iter().map(|it| it.index).collect())
+        let mut nodes = vec![BvhNode::zeroed(); 2 * n];
+        let mut spans = vec![Span::default(); 2 * n];
+        let (root_node, rest) = nodes.split_at_mut(2);
+        let (root_span, rest_spans) = spans.split_at_mut(2);
+        let region = Region { nodes: rest, spans: rest_spans, start: 2 };
+        (root_node[0], root_span[0]) = build_subtree(&mut items, 0, 0, region, params);
+        (Bvh { nodes, spans }, items.iter().map(|it| it.index).collect())
     }
 
     /// Calls `visit(primitive, t_max)` for every primitive whose leaf box the ray
@@ -141,29 +179,50 @@ impl Bvh {
     }
 }
 
-/// Builds the subtree over `items` (whose first element is primitive `first`) into the
-/// already reserved node `me`.
-fn build_node(items: &mut [BuildItem], first: u32, depth: usize, nodes: &mut Vec<BvhNode>, me: usize, block: usize) {
-    let bounds = items.iter().fold(Aabb::EMPTY, |b, it| b.union(it.bounds));
-    nodes[me] = BvhNode { min: bounds.min, index: first, max: bounds.max, count: items.len() as u32 };
-    if items.len() <= 2 || depth >= MAX_DEPTH {
-        return;
-    }
-    let Some(mid) = sah_partition(items, &bounds, block) else {
-        return;
-    };
-    let children = nodes.len();
-    nodes.resize(children + 2, BvhNode::zeroed());
-    build_node(&mut items[..mid], first, depth + 1, nodes, children, block);
-    build_node(&mut items[mid..], first + mid as u32, depth + 1, nodes, children + 1, block);
-    nodes[me].index = children as u32;
-    nodes[me].count = 0;
+/// The node slots a subtree owns for its descendants, `start` being the index of the
+/// first in the whole array.
+struct Region<'a> {
+    nodes: &'a mut [BvhNode],
+    spans: &'a mut [Span],
+    start: usize,
 }
 
-/// Partitions `items` at the cheapest binned SAH split, or `None` when a leaf is
-/// cheaper (and small enough). A leaf of `n` costs `⌈n/block⌉` intersections.
-fn sah_partition(items: &mut [BuildItem], bounds: &Aabb, block: usize) -> Option<usize> {
-    let blocks = |n: usize| n.div_ceil(block) as f32;
+/// Builds the subtree over `items` (whose first element is primitive `first`), its
+/// descendants into `region`, and returns its root.
+fn build_subtree(items: &mut [BuildItem], first: u32, depth: usize, region: Region, params: Params) -> (BvhNode, Span) {
+    let bounds = items.iter().fold(Aabb::EMPTY, |b, it| b.union(it.bounds));
+    let n = items.len();
+    let leaf = BvhNode { min: bounds.min, index: first, max: bounds.max, count: n as u32 };
+    let mut span = Span { first, count: n as u32, leaf: true };
+    if n <= params.block || depth >= MAX_DEPTH {
+        return (leaf, span);
+    }
+    let (mid, leaf_cheaper) = sah_partition(items, &bounds, params);
+    span.leaf = leaf_cheaper;
+    let Region { nodes, spans, start } = region;
+    let (children, rest) = nodes.split_at_mut(2);
+    let (child_spans, rest_spans) = spans.split_at_mut(2);
+    let left_len = 2 * mid - 2;
+    let (left_nodes, right_nodes) = rest.split_at_mut(left_len);
+    let (left_spans, right_spans) = rest_spans.split_at_mut(left_len);
+    let left_region = Region { nodes: left_nodes, spans: left_spans, start: start + 2 };
+    let right_region = Region { nodes: right_nodes, spans: right_spans, start: start + 2 + left_len };
+    let (left_items, right_items) = items.split_at_mut(mid);
+    let right_first = first + mid as u32;
+    let build_left = || build_subtree(left_items, first, depth + 1, left_region, params);
+    let build_right = || build_subtree(right_items, right_first, depth + 1, right_region, params);
+    let (left, right) =
+        if n > PARALLEL_ABOVE { rayon::join(build_left, build_right) } else { (build_left(), build_right()) };
+    (children[0], child_spans[0]) = left;
+    (children[1], child_spans[1]) = right;
+    (BvhNode { min: bounds.min, index: start as u32, max: bounds.max, count: 0 }, span)
+}
+
+/// Partitions `items` at the cheapest binned SAH split (in the middle where all
+/// centroids coincide); returns where, and whether one leaf would be cheaper still
+/// (and small enough). A leaf of `n` costs `⌈n/block⌉` intersections.
+fn sah_partition(items: &mut [BuildItem], bounds: &Aabb, params: Params) -> (usize, bool) {
+    let blocks = |n: usize| n.div_ceil(params.block) as f32;
     let centroids = items.iter().fold(Aabb::EMPTY, |b, it| b.grow(it.centroid));
     let extent = centroids.extent();
     let mut best: Option<(f32, usize, usize)> = None; // (cost, axis, split bin)
@@ -202,14 +261,12 @@ fn sah_partition(items: &mut [BuildItem], bounds: &Aabb, block: usize) -> Option
         }
     }
     let leaf_cost = blocks(items.len());
+    let small = items.len() <= params.max_leaf;
     let Some((cost, axis, split)) = best else {
-        // All centroids coincide: split in the middle if the leaf would be too big.
-        return (items.len() > MAX_LEAF).then_some(items.len() / 2);
+        return (items.len() / 2, small);
     };
     let split_cost = TRAVERSAL_COST + cost / bounds.half_area().max(f32::MIN_POSITIVE);
-    if split_cost >= leaf_cost && items.len() <= MAX_LEAF {
-        return None;
-    }
+    let leaf_cheaper = small && split_cost >= leaf_cost;
     let scale = BINS as f32 / extent[axis];
     let threshold = split;
     let mut left = 0;
@@ -220,7 +277,7 @@ fn sah_partition(items: &mut [BuildItem], bounds: &Aabb, block: usize) -> Option
             left += 1;
         }
     }
-    Some(left)
+    (left, leaf_cheaper)
 }
 
 #[cfg(test)]
@@ -284,6 +341,6 @@ mod tests {
             }
         }
         assert!(seen.iter().all(|&s| s == 1));
-        assert!(bvh.nodes.iter().filter(|n| n.count > 0).all(|n| n.count as usize <= MAX_LEAF));
+        assert!(bvh.nodes.iter().filter(|n| n.count > 0).all(|n| n.count == 1));
     }
 }

@@ -1,7 +1,9 @@
-//! Acceleration structures.
+//! Acceleration structures: a binned-SAH binary BVH, built first, and the 8-wide BVH
+//! collapsed from it that rays traverse.
 
 mod bvh;
-mod bvh4;
+pub mod lanes;
+mod wide;
 
 pub use bvh::{Bvh, BvhNode};
-pub use bvh4::{Bvh4, Bvh4Node, EMPTY};
+pub use wide::{EMPTY, Order, WIDTH, WideBvh, WideNode};

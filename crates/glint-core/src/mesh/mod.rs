@@ -4,7 +4,7 @@
 //! of times by instances whose [`crate::shape::Shape`] names its index (two-level
 //! instancing: the top-level BVH is over instances, each mesh has its own BVH over
 //! triangles in object space). Everything is plain arrays so a GPU backend can upload
-//! them as they are: `Bvh4Node` and `Triangle4` are `Pod`, indices are `[u32; 3]`,
+//! them as they are: `WideNode` and `Triangle4` are `Pod`, indices are `[u32; 3]`,
 //! vertices `Vec3`.
 
 pub mod triangle;
@@ -12,7 +12,8 @@ pub mod triangle4;
 
 use glam::{Vec2, Vec3};
 
-use crate::accel::{Bvh, Bvh4};
+use crate::accel::lanes::{F32x8, Portable};
+use crate::accel::{Bvh, Order, WIDTH, WideBvh};
 use crate::desc::MeshDesc;
 use crate::math::{Aabb, Ray};
 use crate::shape::{ShapeHit, SurfacePoint};
@@ -29,9 +30,9 @@ pub struct Mesh {
     pub uvs: Vec<Vec2>,
     pub triangles: Vec<[u32; 3]>,
     /// Built with the binary SAH builder (a leaf costs one test per four triangles), then
-    /// collapsed to four children per node. Its leaves index [`Mesh::packets`]: a leaf's
-    /// `child` is its first packet and `count` the number of packets.
-    pub bvh: Bvh4,
+    /// collapsed to eight children per node. Its leaves index [`Mesh::packets`]: a
+    /// leaf's `child` is its first packet and `count` the number of packets.
+    pub bvh: WideBvh,
     /// Triangles dropped at compile time because they have no area.
     pub degenerate: usize,
     /// The corners of each leaf's triangles again, four to a packet, so the traversal
@@ -125,14 +126,14 @@ impl Mesh {
             normals,
             uvs,
             triangles,
-            bvh: Bvh4::default(),
+            bvh: WideBvh::default(),
             degenerate,
             packets: vec![],
         };
         let boxes: Vec<Aabb> = (0..mesh.triangles.len()).map(|i| mesh.triangle_bounds(i)).collect();
         let (bvh, order) = Bvh::build_blocks(&boxes, 4);
         mesh.triangles = order.iter().map(|&i| mesh.triangles[i as usize]).collect();
-        mesh.bvh = Bvh4::from_binary(&bvh);
+        mesh.bvh = WideBvh::from_binary(&bvh);
         mesh.renumber_vertices();
         mesh.pack_leaves();
         Ok(mesh)
@@ -144,7 +145,7 @@ impl Mesh {
         let corners: Vec<[Vec3; 3]> = (0..self.triangles.len()).map(|t| self.vertices(t)).collect();
         let mut packets = Vec::with_capacity(self.triangles.len() / 2);
         for node in &mut self.bvh.nodes {
-            for lane in 0..4 {
+            for lane in 0..WIDTH {
                 let count = node.count[lane];
                 if count == 0 || count == crate::accel::EMPTY {
                     continue;
@@ -202,10 +203,42 @@ impl Mesh {
 
     /// The closest hit in `(0, t_max)`; `part` is the triangle index.
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<ShapeHit> {
+        #[cfg(target_arch = "x86_64")]
+        if crate::accel::lanes::has_avx2() {
+            // SAFETY: this CPU has AVX2.
+            return unsafe { self.intersect_avx2(ray, t_max) };
+        }
+        self.intersect_on::<Portable>(ray, t_max)
+    }
+
+    /// Whether any triangle is hit in `(0, t_max)`; stops at the first.
+    pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if crate::accel::lanes::has_avx2() {
+            // SAFETY: this CPU has AVX2.
+            return unsafe { self.occluded_avx2(ray, t_max) };
+        }
+        self.occluded_on::<Portable>(ray, t_max)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn intersect_avx2(&self, ray: &Ray, t_max: f32) -> Option<ShapeHit> {
+        self.intersect_on::<crate::accel::lanes::Avx2>(ray, t_max)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn occluded_avx2(&self, ray: &Ray, t_max: f32) -> bool {
+        self.occluded_on::<crate::accel::lanes::Avx2>(ray, t_max)
+    }
+
+    #[inline(always)]
+    fn intersect_on<L: F32x8>(&self, ray: &Ray, t_max: f32) -> Option<ShapeHit> {
         let wray = WatertightRay4::new(WatertightRay::new(ray)?);
         let mut best = None;
         let mut t_max = t_max;
-        self.bvh.traverse(ray, &mut t_max, |packet, t_max| {
+        self.bvh.traverse_with::<L, _>(Order::NearestFirst, &self.packets, ray, &mut t_max, |packet, t_max| {
             if let Some((t, tri)) = triangle4::intersect(&wray, &self.packets[packet as usize], *t_max) {
                 *t_max = t;
                 best = Some(ShapeHit { t, part: tri });
@@ -215,11 +248,11 @@ impl Mesh {
         best
     }
 
-    /// Whether any triangle is hit in `(0, t_max)`; stops at the first.
-    pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+    #[inline(always)]
+    fn occluded_on<L: F32x8>(&self, ray: &Ray, t_max: f32) -> bool {
         let Some(wray) = WatertightRay::new(ray).map(WatertightRay4::new) else { return false };
         let mut blocked = false;
-        self.bvh.traverse(ray, &mut { t_max }, |packet, t_max| {
+        self.bvh.traverse_with::<L, _>(Order::Any, &self.packets, ray, &mut { t_max }, |packet, t_max| {
             blocked = triangle4::occluded(&wray, &self.packets[packet as usize], *t_max);
             blocked
         });
@@ -269,7 +302,7 @@ impl Mesh {
             + self.uvs.len() * size_of::<Vec2>()
             + self.triangles.len() * size_of::<[u32; 3]>()
             + self.packets.len() * size_of::<Triangle4>()
-            + self.bvh.nodes.len() * size_of::<crate::accel::Bvh4Node>()
+            + self.bvh.nodes.len() * size_of::<crate::accel::WideNode>()
     }
 }
 

@@ -100,19 +100,29 @@ fn test(ray: &WatertightRay4, packet: &Triangle4, t_max: f32) -> Lanes {
     let on_edge = u.cmpeq(zero) | v.cmpeq(zero) | w.cmpeq(zero);
     let negative = u.cmplt(zero) | v.cmplt(zero) | w.cmplt(zero);
     let positive = u.cmpgt(zero) | v.cmpgt(zero) | w.cmpgt(zero);
+    let inside = !(negative & positive | on_edge);
+    // Most packets a ray reaches miss it on all four lanes: stop before the distance
+    // and its division.
+    if !inside.any() {
+        return Lanes { hit: inside, t: zero, on_edge: on_edge.bitmask() };
+    }
     let det = u + v + w;
     let t_scaled = u * (sz * az) + v * (sz * bz) + w * (sz * cz);
     // t = T/det in (0, t_max), compared without dividing, sign by sign.
     let bound = Vec4::splat(t_max) * det;
     let in_front = (det.cmpgt(zero) & t_scaled.cmpgt(zero) & t_scaled.cmplt(bound))
         | (det.cmplt(zero) & t_scaled.cmplt(zero) & t_scaled.cmpgt(bound));
+    let candidate = inside & in_front;
+    if !candidate.any() {
+        return Lanes { hit: candidate, t: zero, on_edge: on_edge.bitmask() };
+    }
     let t = t_scaled * (Vec4::ONE / det);
-    let hit = !(negative & positive | on_edge) & in_front & t.cmpgt(zero) & t.cmplt(Vec4::splat(t_max));
+    let hit = candidate & t.cmpgt(zero) & t.cmplt(Vec4::splat(t_max));
     Lanes { hit, t, on_edge: on_edge.bitmask() }
 }
 
 /// The closest hit among the packet's triangles in `(0, t_max)`: `(t, triangle)`.
-#[inline]
+#[inline(always)]
 pub fn intersect(ray: &WatertightRay4, packet: &Triangle4, t_max: f32) -> Option<(f32, u32)> {
     let lanes = test(ray, packet, t_max);
     let mut best = None;
@@ -139,7 +149,7 @@ pub fn intersect(ray: &WatertightRay4, packet: &Triangle4, t_max: f32) -> Option
 }
 
 /// Whether any of the packet's triangles is hit in `(0, t_max)`.
-#[inline]
+#[inline(always)]
 pub fn occluded(ray: &WatertightRay4, packet: &Triangle4, t_max: f32) -> bool {
     let lanes = test(ray, packet, t_max);
     if lanes.hit.any() {

@@ -1,0 +1,359 @@
+//! An 8-wide BVH made by collapsing the binary one (each node takes up to eight of its
+//! descendants, opening the largest first), so one SIMD slab test checks eight boxes —
+//! the layout of Embree's BVH8 (Wald et al., "Embree: A Kernel Framework for Efficient
+//! CPU Ray Tracing", 2014) and, as eight-child nodes, of GPU wide BVHs (Ylitie et al.,
+//! "Efficient Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs", 2017).
+//! Nodes are plain `Pod` records, structure of arrays, uploadable as they are.
+
+use std::mem::MaybeUninit;
+
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+
+use super::bvh::Bvh;
+use super::lanes::{F32x8, Portable, prefetch};
+use crate::math::{Aabb, ROBUST_FAR, Ray};
+
+/// Children per node.
+pub const WIDTH: usize = 8;
+
+/// `count` of an unused child slot.
+pub const EMPTY: u32 = u32::MAX;
+
+/// Eight child boxes and what each child is; 256 bytes, four cache lines.
+#[repr(C, align(32))]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct WideNode {
+    /// `bounds[2·axis]` holds the children's lower bounds on `axis` and
+    /// `bounds[2·axis + 1]` their upper bounds, lane = child. An unused lane holds the
+    /// empty box (+∞ … −∞), which the slab test never enters, so traversal needs no
+    /// check for it.
+    pub bounds: [[f32; WIDTH]; 6],
+    /// An inner child's node index, or a leaf's first primitive.
+    pub child: [u32; WIDTH],
+    /// 0 for an inner child, the primitive count of a leaf, or [`EMPTY`].
+    pub count: [u32; WIDTH],
+}
+
+impl WideNode {
+    const UNUSED: WideNode = WideNode {
+        bounds: [
+            [f32::INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
+            [f32::INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
+            [f32::INFINITY; WIDTH],
+            [f32::NEG_INFINITY; WIDTH],
+        ],
+        child: [0; WIDTH],
+        count: [EMPTY; WIDTH],
+    };
+
+    fn set_box(&mut self, lane: usize, b: Aabb) {
+        for axis in 0..3 {
+            self.bounds[2 * axis][lane] = b.min[axis];
+            self.bounds[2 * axis + 1][lane] = b.max[axis];
+        }
+    }
+}
+
+/// Which children a traversal visits first.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Order {
+    /// Nearest entry first: a closest-hit query shrinks `t_max` soonest this way.
+    NearestFirst,
+    /// In storage order, unsorted: an any-hit query stops at its first hit, wherever it
+    /// is, so sorting would only cost time (Embree's occlusion traversal does the same).
+    Any,
+}
+
+/// The 8-wide hierarchy; primitives keep the order of the binary BVH it came from.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct WideBvh {
+    pub nodes: Vec<WideNode>,
+    bounds: Option<(Vec3, Vec3)>,
+}
+
+/// Most entries the traversal stack can hold: each level pops one entry and pushes at
+/// most seven, and the binary BVH (so this one too) is at most 60 levels deep.
+const STACK: usize = (WIDTH - 1) * 61 + 1;
+
+impl WideBvh {
+    /// Collapses `bvh` (whose primitive order stays valid).
+    pub fn from_binary(bvh: &Bvh) -> WideBvh {
+        let mut nodes = Vec::with_capacity(bvh.nodes.len() / 4 + 1);
+        if let (Some(root), Some(span)) = (bvh.nodes.first(), bvh.spans.first()) {
+            if span.leaf {
+                let mut node = WideNode::UNUSED;
+                node.set_box(0, Aabb::new(root.min, root.max));
+                node.child[0] = span.first;
+                node.count[0] = span.count;
+                nodes.push(node);
+            } else {
+                collapse(bvh, 0, &mut nodes);
+            }
+        }
+        let bounds = bvh.nodes.first().map(|r| (r.min, r.max));
+        WideBvh { nodes, bounds }
+    }
+
+    pub fn bounds(&self) -> Aabb {
+        self.bounds.map_or(Aabb::EMPTY, |(min, max)| Aabb::new(min, max))
+    }
+
+    /// `visit(primitive, t_max)` for every primitive whose leaf box the ray enters
+    /// before `*t_max`, nearest boxes first; `visit` may shrink `t_max` (closest hit) and
+    /// returns `true` to stop at once (any hit). Portable lanes; hot paths that can use
+    /// AVX2 call [`WideBvh::traverse_with`] from an AVX2 function.
+    pub fn traverse(&self, ray: &Ray, t_max: &mut f32, visit: impl FnMut(u32, &mut f32) -> bool) {
+        self.traverse_with::<Portable, ()>(Order::NearestFirst, &[], ray, t_max, visit);
+    }
+
+    /// [`WideBvh::traverse`] on the lanes `L`, children visited in `order`; a leaf's
+    /// first primitive in `leaves` (if given) is prefetched when its box is hit.
+    #[inline(always)]
+    pub fn traverse_with<L: F32x8, P>(
+        &self,
+        order: Order,
+        leaves: &[P],
+        ray: &Ray,
+        t_max: &mut f32,
+        mut visit: impl FnMut(u32, &mut f32) -> bool,
+    ) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        // A zero direction component becomes a tiny one of the same sign: 1/d stays
+        // finite and nonzero, so no 0·∞ = NaN appears when the origin lies on a slab
+        // plane, and an empty lane (+∞ … −∞) is never entered.
+        let tiny = |d: f32| if d.abs() < 1e-30 { 1e-30f32.copysign(d) } else { d };
+        let inv = Vec3::new(tiny(ray.dir.x), tiny(ray.dir.y), tiny(ray.dir.z)).recip();
+        // The plane a ray meets first on each axis is the lower one where it travels
+        // up that axis and the upper one otherwise, so each axis costs one subtract and
+        // one multiply per plane and no min/max (Williams et al., "An Efficient and
+        // Robust Ray–Box Intersection Algorithm", 2005).
+        let near_plane = [0, 1, 2].map(|a| 2 * a + usize::from(inv[a] < 0.0));
+        let far_plane = near_plane.map(|p| p ^ 1);
+        let inv = [inv.x, inv.y, inv.z].map(L::splat);
+        let origin = [ray.origin.x, ray.origin.y, ray.origin.z].map(L::splat);
+        let slab = |n: &WideNode, plane: [usize; 3], axis: usize| {
+            L::load(&n.bounds[plane[axis]]).sub(origin[axis]).mul(inv[axis])
+        };
+        // (index, count, entry distance); count 0 = inner node. Left uninitialized: zeroing
+        // 5 KiB per ray cost more than a slab test.
+        let mut stack = [MaybeUninit::<(u32, u32, f32)>::uninit(); STACK];
+        let mut top = 0;
+        let mut next = Some((0u32, 0u32, 0.0f32));
+        loop {
+            // A child of the node just tested is visited straight away rather than pushed
+            // and at once popped again; otherwise the top of the stack.
+            let (index, count, t_enter) = match next.take() {
+                Some(entry) => entry,
+                None if top > 0 => {
+                    top -= 1;
+                    // SAFETY: entries below `top` were all written by a push.
+                    unsafe { stack[top].assume_init() }
+                }
+                None => return,
+            };
+            if t_enter > *t_max {
+                continue;
+            }
+            if count > 0 {
+                for prim in index..index + count {
+                    if visit(prim, t_max) {
+                        return;
+                    }
+                }
+                continue;
+            }
+            let n = &self.nodes[index as usize];
+            let near =
+                slab(n, near_plane, 0).max(slab(n, near_plane, 1)).max(slab(n, near_plane, 2).max(L::splat(0.0)));
+            // Widened as in `Aabb::hit_interval` so flat boxes hit on an edge are kept.
+            let far = slab(n, far_plane, 0).min(slab(n, far_plane, 1)).min(slab(n, far_plane, 2));
+            let mut mask = near.le_mask(far.mul(L::splat(ROBUST_FAR)).min(L::splat(*t_max)));
+            if mask == 0 {
+                continue;
+            }
+            let near = near.to_array();
+            let entry = |lane: usize| {
+                let (child, count) = (n.child[lane], n.count[lane]);
+                if count == 0 {
+                    prefetch(&self.nodes[child as usize]);
+                } else if let Some(first) = leaves.get(child as usize) {
+                    prefetch(first);
+                }
+                (child, count, near[lane])
+            };
+            if mask & (mask - 1) == 0 || order == Order::Any {
+                // One child (the common case), or any-hit order: the first is next, the
+                // rest go on the stack as they come.
+                next = Some(entry(mask.trailing_zeros() as usize));
+                mask &= mask - 1;
+                while mask != 0 {
+                    stack[top].write(entry(mask.trailing_zeros() as usize));
+                    top += 1;
+                    mask &= mask - 1;
+                }
+                continue;
+            }
+            // Sort the hit children farthest first: all but the nearest are pushed, so
+            // the nearest of them is popped first.
+            let mut hits = [(0u32, 0u32, 0.0f32); WIDTH];
+            let mut k = 0;
+            while mask != 0 {
+                let e = entry(mask.trailing_zeros() as usize);
+                mask &= mask - 1;
+                let mut j = k;
+                while j > 0 && hits[j - 1].2 < e.2 {
+                    hits[j] = hits[j - 1];
+                    j -= 1;
+                }
+                hits[j] = e;
+                k += 1;
+            }
+            for &e in &hits[..k - 1] {
+                stack[top].write(e);
+                top += 1;
+            }
+            next = Some(hits[k - 1]);
+        }
+    }
+}
+
+/// Builds the wide node for the inner binary node `n2` and returns its index: opens
+/// the largest inner descendant until there are eight children (past where the SAH
+/// would stop, as Embree fills its nodes), then makes each child a leaf where the SAH
+/// prefers one and a wide node otherwise.
+fn collapse(bvh: &Bvh, n2: usize, out: &mut Vec<WideNode>) -> u32 {
+    let me = out.len();
+    out.push(WideNode::UNUSED);
+    let node = &bvh.nodes[n2];
+    let mut kids = vec![node.index as usize, node.index as usize + 1];
+    // Open the largest inner child until there are eight.
+    let area = |i: usize| Aabb::new(bvh.nodes[i].min, bvh.nodes[i].max).half_area();
+    while kids.len() < WIDTH {
+        let Some(open) = (0..kids.len())
+            .filter(|&k| bvh.nodes[kids[k]].count == 0)
+            .max_by(|&a, &b| area(kids[a]).total_cmp(&area(kids[b])))
+        else {
+            break;
+        };
+        let inner = kids.swap_remove(open);
+        let first = bvh.nodes[inner].index as usize;
+        kids.extend([first, first + 1]);
+    }
+    for (lane, &k) in kids.iter().enumerate() {
+        let (child, span) = (bvh.nodes[k], bvh.spans[k]);
+        let (index, count) = if span.leaf { (span.first, span.count) } else { (collapse(bvh, k, out), 0) };
+        let n = &mut out[me];
+        n.set_box(lane, Aabb::new(child.min, child.max));
+        n.child[lane] = index;
+        n.count[lane] = count;
+    }
+    me as u32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// What a traversal calls at each primitive.
+    type Visit<'a> = dyn FnMut(u32, &mut f32) -> bool + 'a;
+
+    fn random_boxes(n: usize, next: &mut impl FnMut() -> f32) -> Vec<Aabb> {
+        (0..n)
+            .map(|_| {
+                let c = Vec3::new(next(), next(), next()) * 20.0 - 10.0;
+                let h = Vec3::new(next(), next(), next()) * 0.6;
+                Aabb::new(c - h, c + h)
+            })
+            .collect()
+    }
+
+    /// Every box the ray enters, by brute force and through the wide hierarchy in both
+    /// orders and on every lane implementation this CPU has, over a few thousand boxes
+    /// (a tree several levels deep), axis-parallel rays included.
+    #[test]
+    fn visits_exactly_the_boxes_the_ray_enters() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let boxes = random_boxes(3000, &mut next);
+        let (bvh, order) = Bvh::build(&boxes);
+        let wide = WideBvh::from_binary(&bvh);
+        assert!(wide.nodes.len() < bvh.nodes.len() / 4);
+        for i in 0..300 {
+            let origin = Vec3::new(next(), next(), next()) * 30.0 - 15.0;
+            let mut dir = Vec3::new(next(), next(), next()) * 2.0 - 1.0;
+            if i % 3 == 0 {
+                dir[i % 9 / 3] = 0.0;
+            }
+            let ray = Ray::new(origin, dir);
+            let inv = dir.recip();
+            let brute: Vec<u32> = (0..boxes.len() as u32)
+                .filter(|&i| boxes[i as usize].hit_interval(&ray, inv, f32::INFINITY).is_some())
+                .collect();
+            let collect = |traverse: &dyn Fn(&mut Visit)| {
+                let mut found = Vec::new();
+                traverse(&mut |prim, _| {
+                    let original = order[prim as usize];
+                    if boxes[original as usize].hit_interval(&ray, inv, f32::INFINITY).is_some() {
+                        found.push(original);
+                    }
+                    false
+                });
+                found.sort();
+                found
+            };
+            for order in [Order::NearestFirst, Order::Any] {
+                let portable =
+                    collect(&|v| wide.traverse_with::<Portable, ()>(order, &[], &ray, &mut { f32::INFINITY }, v));
+                assert_eq!(brute, portable);
+                #[cfg(target_arch = "x86_64")]
+                if super::super::lanes::has_avx2() {
+                    #[target_feature(enable = "avx2")]
+                    fn avx(w: &WideBvh, o: Order, r: &Ray, v: &mut Visit) {
+                        w.traverse_with::<super::super::lanes::Avx2, ()>(o, &[], r, &mut { f32::INFINITY }, v);
+                    }
+                    // SAFETY: AVX2 was detected just above.
+                    let found = collect(&|v| unsafe { avx(&wide, order, &ray, v) });
+                    assert_eq!(brute, found);
+                }
+            }
+        }
+    }
+
+    /// Nearest-first order: along a row of disjoint boxes, leaves come in the order the
+    /// ray meets them, from either end.
+    #[test]
+    fn nearest_first_visits_disjoint_leaves_in_order() {
+        let boxes: Vec<Aabb> =
+            (0..500).map(|i| Aabb::new(Vec3::new(i as f32, 0.0, 0.0), Vec3::new(i as f32 + 0.5, 1.0, 1.0))).collect();
+        let (bvh, order) = Bvh::build(&boxes);
+        let wide = WideBvh::from_binary(&bvh);
+        // Each leaf's lowest x, by the leaf's first primitive.
+        let mut leaf_x = std::collections::HashMap::new();
+        for n in &wide.nodes {
+            for lane in (0..WIDTH).filter(|&l| n.count[l] != 0 && n.count[l] != EMPTY) {
+                let range = n.child[lane]..n.child[lane] + n.count[lane];
+                let x = range.clone().map(|p| order[p as usize] as f32).fold(f32::INFINITY, f32::min);
+                leaf_x.extend(range.map(|p| (p, x)));
+            }
+        }
+        for (origin, dir) in [(Vec3::new(-1.0, 0.5, 0.5), Vec3::X), (Vec3::new(600.0, 0.5, 0.5), -Vec3::X)] {
+            let mut xs: Vec<f32> = Vec::new();
+            wide.traverse(&Ray::new(origin, dir), &mut { f32::INFINITY }, |p, _| {
+                xs.push(leaf_x[&p] * dir.x);
+                false
+            });
+            assert_eq!(xs.len(), 500);
+            assert!(xs.windows(2).all(|w| w[0] <= w[1]), "leaves out of order: {xs:?}");
+        }
+    }
+}
