@@ -29,6 +29,21 @@ enum Command {
     Render(RenderArgs),
     /// Write a scene file of any format as a native .glint file that renders the same image.
     Convert(ConvertArgs),
+    /// Time the mesh BVH: build, and closest/any-hit rays per second for camera and random rays.
+    Bench(BenchArgs),
+}
+
+#[derive(clap::Args)]
+struct BenchArgs {
+    /// A GLBENCH1 file of mesh and rays (bench/embree_compare.sh writes one and times Embree on it). Without one, the same kind of scene is generated: a 1M-triangle bumpy sphere, 1024² camera rays, 2²⁰ random rays.
+    #[arg(long)]
+    input: Option<PathBuf>,
+    /// A smaller generated scene (40,000 triangles, 256² camera rays, 2¹⁶ random rays): a quick check.
+    #[arg(long, conflicts_with = "input")]
+    quick: bool,
+    /// Print one JSON object instead of a table.
+    #[arg(long)]
+    json: bool,
 }
 
 #[derive(clap::Args)]
@@ -145,6 +160,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Render(args) => run_render(&args),
         Command::Convert(args) => run_convert(&args),
+        Command::Bench(args) => run_bench(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -251,6 +267,26 @@ fn sample_count_image(like: &Image, counts: &[u32]) -> Image {
     let most = counts.iter().copied().max().unwrap_or(1).max(1) as f32;
     let pixels = counts.iter().map(|&c| glint_core::math::Vec3::splat(c as f32 / most)).collect();
     Image { pixels, ..*like }
+}
+
+fn run_bench(args: &BenchArgs) -> Result<(), Failure> {
+    use glint_cli::bench;
+    let input = match (&args.input, args.quick) {
+        (Some(path), _) => bench::read_input(path)?,
+        (None, true) => bench::generate(100, 200, 256, 1 << 16),
+        (None, false) => bench::generate(500, 1000, 1024, 1 << 20),
+    };
+    let spinner = ProgressBar::new_spinner();
+    spinner.enable_steady_tick(std::time::Duration::from_millis(120));
+    let measures = bench::run(&input, |step| spinner.set_message(step.to_string()));
+    spinner.finish_and_clear();
+    let measures = measures?;
+    if args.json {
+        println!("{}", bench::to_json(&measures));
+    } else {
+        print!("{}", bench::to_table(&measures));
+    }
+    Ok(())
 }
 
 fn run_convert(args: &ConvertArgs) -> Result<(), Failure> {

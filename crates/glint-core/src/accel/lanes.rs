@@ -18,6 +18,8 @@ pub trait F32x8: Copy {
     fn max(self, other: Self) -> Self;
     /// Bit `i` set where lane `i` of `self` ≤ lane `i` of `other`.
     fn le_mask(self, other: Self) -> u32;
+    /// `yes` in the lanes where `self` ≤ `other`, `no` in the others.
+    fn select_le(self, other: Self, yes: Self, no: Self) -> Self;
     fn to_array(self) -> [f32; 8];
 }
 
@@ -54,6 +56,10 @@ impl F32x8 for Portable {
     #[inline(always)]
     fn le_mask(self, o: Self) -> u32 {
         self.0[0].cmple(o.0[0]).bitmask() | self.0[1].cmple(o.0[1]).bitmask() << 4
+    }
+    #[inline(always)]
+    fn select_le(self, o: Self, yes: Self, no: Self) -> Self {
+        Portable([0, 1].map(|h| Vec4::select(self.0[h].cmple(o.0[h]), yes.0[h], no.0[h])))
     }
     #[inline(always)]
     fn to_array(self) -> [f32; 8] {
@@ -133,6 +139,10 @@ mod avx {
             unsafe { _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(self.0, o.0)) as u32 }
         }
         #[inline(always)]
+        fn select_le(self, o: Self, yes: Self, no: Self) -> Self {
+            Avx2(unsafe { _mm256_blendv_ps(no.0, yes.0, _mm256_cmp_ps::<_CMP_LE_OQ>(self.0, o.0)) })
+        }
+        #[inline(always)]
         fn to_array(self) -> [f32; 8] {
             let mut out = [0.0; 8];
             unsafe { _mm256_storeu_ps(out.as_mut_ptr(), self.0) };
@@ -152,6 +162,8 @@ mod tests {
         let b = [2.0, 0.0, 1.0, f32::NAN, -3.5, -2.0, -0.0, 7.0];
         let p = |f: fn(Portable, Portable) -> Portable| f(Portable::load(&a), Portable::load(&b)).to_array();
         assert_eq!(Portable::load(&a).le_mask(Portable::load(&b)), 0b1110_0011);
+        let pick = |x: Portable, y: Portable| x.select_le(y, Portable::splat(1.0), Portable::splat(2.0));
+        assert_eq!(p(pick), [1.0, 1.0, 2.0, 2.0, 2.0, 1.0, 1.0, 1.0]);
         #[cfg(target_arch = "x86_64")]
         if has_avx2() {
             #[target_feature(enable = "avx2")]
@@ -170,6 +182,8 @@ mod tests {
                 assert_eq!(bits(p(F32x8::sub)), bits(avx(&a, &b, F32x8::sub)));
                 assert_eq!(bits(p(F32x8::mul)), bits(avx(&a, &b, F32x8::mul)));
                 assert_eq!(avx_mask(&a, &b), 0b1110_0011);
+                let avx_pick = |x: Avx2, y: Avx2| x.select_le(y, Avx2::splat(1.0), Avx2::splat(2.0));
+                assert_eq!(bits(p(pick)), bits(avx(&a, &b, avx_pick)));
             }
         }
     }

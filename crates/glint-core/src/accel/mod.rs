@@ -3,7 +3,9 @@
 
 mod bvh;
 pub mod lanes;
+mod packet;
 mod wide;
 
 pub use bvh::{Bvh, BvhNode};
+pub use packet::{PACKET, bits};
 pub use wide::{EMPTY, Order, WIDTH, WideBvh, WideNode};

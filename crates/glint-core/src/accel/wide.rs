@@ -76,7 +76,7 @@ pub struct WideBvh {
 
 /// Most entries the traversal stack can hold: each level pops one entry and pushes at
 /// most seven, and the binary BVH (so this one too) is at most 60 levels deep.
-const STACK: usize = (WIDTH - 1) * 61 + 1;
+pub(super) const STACK: usize = (WIDTH - 1) * 61 + 1;
 
 impl WideBvh {
     /// Collapses `bvh` (whose primitive order stays valid).
@@ -123,22 +123,7 @@ impl WideBvh {
         if self.nodes.is_empty() {
             return;
         }
-        // A zero direction component becomes a tiny one of the same sign: 1/d stays
-        // finite and nonzero, so no 0·∞ = NaN appears when the origin lies on a slab
-        // plane, and an empty lane (+∞ … −∞) is never entered.
-        let tiny = |d: f32| if d.abs() < 1e-30 { 1e-30f32.copysign(d) } else { d };
-        let inv = Vec3::new(tiny(ray.dir.x), tiny(ray.dir.y), tiny(ray.dir.z)).recip();
-        // The plane a ray meets first on each axis is the lower one where it travels
-        // up that axis and the upper one otherwise, so each axis costs one subtract and
-        // one multiply per plane and no min/max (Williams et al., "An Efficient and
-        // Robust Ray–Box Intersection Algorithm", 2005).
-        let near_plane = [0, 1, 2].map(|a| 2 * a + usize::from(inv[a] < 0.0));
-        let far_plane = near_plane.map(|p| p ^ 1);
-        let inv = [inv.x, inv.y, inv.z].map(L::splat);
-        let origin = [ray.origin.x, ray.origin.y, ray.origin.z].map(L::splat);
-        let slab = |n: &WideNode, plane: [usize; 3], axis: usize| {
-            L::load(&n.bounds[plane[axis]]).sub(origin[axis]).mul(inv[axis])
-        };
+        let slab = SlabRay::<L>::new(ray);
         // (index, count, entry distance); count 0 = inner node. Left uninitialized: zeroing
         // 5 KiB per ray cost more than a slab test.
         let mut stack = [MaybeUninit::<(u32, u32, f32)>::uninit(); STACK];
@@ -168,11 +153,7 @@ impl WideBvh {
                 continue;
             }
             let n = &self.nodes[index as usize];
-            let near =
-                slab(n, near_plane, 0).max(slab(n, near_plane, 1)).max(slab(n, near_plane, 2).max(L::splat(0.0)));
-            // Widened as in `Aabb::hit_interval` so flat boxes hit on an edge are kept.
-            let far = slab(n, far_plane, 0).min(slab(n, far_plane, 1)).min(slab(n, far_plane, 2));
-            let mut mask = near.le_mask(far.mul(L::splat(ROBUST_FAR)).min(L::splat(*t_max)));
+            let (near, mut mask) = slab.test(n, *t_max);
             if mask == 0 {
                 continue;
             }
@@ -219,6 +200,61 @@ impl WideBvh {
             }
             next = Some(hits[k - 1]);
         }
+    }
+}
+
+/// A ray prepared for slab tests against a node's eight boxes at once.
+#[derive(Clone, Copy)]
+pub(super) struct SlabRay<L> {
+    inv: [L; 3],
+    origin: [L; 3],
+    near_plane: [usize; 3],
+    far_plane: [usize; 3],
+}
+
+impl<L: F32x8> SlabRay<L> {
+    #[inline(always)]
+    pub(super) fn new(ray: &Ray) -> Self {
+        // A zero direction component becomes a tiny one of the same sign: 1/d stays
+        // finite and nonzero, so no 0·∞ = NaN appears when the origin lies on a slab
+        // plane, and an empty lane (+∞ … −∞) is never entered.
+        let tiny = |d: f32| if d.abs() < 1e-30 { 1e-30f32.copysign(d) } else { d };
+        let inv = Vec3::new(tiny(ray.dir.x), tiny(ray.dir.y), tiny(ray.dir.z)).recip();
+        // The plane a ray meets first on each axis is the lower one where it travels
+        // up that axis and the upper one otherwise, so each axis costs one subtract and
+        // one multiply per plane and no min/max (Williams et al., "An Efficient and
+        // Robust Ray–Box Intersection Algorithm", 2005).
+        let near_plane = [0, 1, 2].map(|a| 2 * a + usize::from(inv[a] < 0.0));
+        SlabRay {
+            inv: [inv.x, inv.y, inv.z].map(L::splat),
+            origin: [ray.origin.x, ray.origin.y, ray.origin.z].map(L::splat),
+            near_plane,
+            far_plane: near_plane.map(|p| p ^ 1),
+        }
+    }
+
+    /// The distances at which the ray enters each of `n`'s boxes, and the mask of the
+    /// boxes it enters before `t_max`.
+    #[inline(always)]
+    pub(super) fn test(&self, n: &WideNode, t_max: f32) -> (L, u32) {
+        let slab = |plane: usize, axis: usize| L::load(&n.bounds[plane]).sub(self.origin[axis]).mul(self.inv[axis]);
+        let [nx, ny, nz] = self.near_plane;
+        let [fx, fy, fz] = self.far_plane;
+        let near = slab(nx, 0).max(slab(ny, 1)).max(slab(nz, 2).max(L::splat(0.0)));
+        // Widened as in `Aabb::hit_interval` so flat boxes hit on an edge are kept.
+        let far = slab(fx, 0).min(slab(fy, 1)).min(slab(fz, 2));
+        (near, near.le_mask(far.mul(L::splat(ROBUST_FAR)).min(L::splat(t_max))))
+    }
+
+    /// As [`SlabRay::test`], with +∞ as the entry distance of the boxes missed.
+    #[inline(always)]
+    pub(super) fn test_or_infinity(&self, n: &WideNode, t_max: f32) -> (L, u32) {
+        let slab = |plane: usize, axis: usize| L::load(&n.bounds[plane]).sub(self.origin[axis]).mul(self.inv[axis]);
+        let [nx, ny, nz] = self.near_plane;
+        let [fx, fy, fz] = self.far_plane;
+        let near = slab(nx, 0).max(slab(ny, 1)).max(slab(nz, 2).max(L::splat(0.0)));
+        let far = slab(fx, 0).min(slab(fy, 1)).min(slab(fz, 2)).mul(L::splat(ROBUST_FAR)).min(L::splat(t_max));
+        (near.select_le(far, near, L::splat(f32::INFINITY)), near.le_mask(far))
     }
 }
 

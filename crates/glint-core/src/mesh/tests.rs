@@ -156,3 +156,34 @@ proptest! {
         prop_assert_eq!(brute.is_some(), mesh.occluded_on::<crate::accel::lanes::Portable>(&ray, t_max));
     }
 }
+
+proptest! {
+    /// A packet finds, ray by ray, the hit (distance and triangle) and the occlusion the
+    /// single-ray queries find, on the dispatched and the portable paths, for packets of
+    /// any size whose rays share an origin and fan out a little (as camera rays do) or
+    /// not at all (some rays point elsewhere).
+    #[test]
+    fn packet_equals_single_rays(
+        seeds in prop::collection::vec(prop::array::uniform9(-5.0f32..5.0), 1..300),
+        origin in prop::array::uniform3(-8.0f32..8.0),
+        dir in prop::array::uniform3(-1.0f32..1.0),
+        spread in prop::collection::vec(prop::array::uniform3(-0.3f32..0.3), 1..=8),
+        t_max in prop_oneof![Just(f32::INFINITY), 0.5f32..20.0],
+    ) {
+        let mesh = Mesh::compile(&soup(&seeds)).unwrap();
+        let rays: Vec<Ray> = spread.iter().enumerate().map(|(i, s)| {
+            let d = if i == 5 { Vec3::from(*s) } else { Vec3::from(dir) + Vec3::from(*s) };
+            Ray::new(Vec3::from(origin), d)
+        }).collect();
+        let single: Vec<_> = rays.iter().map(|r| mesh.intersect(r, t_max)).collect();
+        let blocked = rays.iter().enumerate().fold(0u32, |m, (i, r)| m | u32::from(mesh.occluded(r, t_max)) << i);
+        let mut hits = [None; PACKET];
+        mesh.intersect_packet(&rays, t_max, &mut hits);
+        prop_assert_eq!(&single[..], &hits[..rays.len()]);
+        prop_assert_eq!(blocked, mesh.occluded_packet(&rays, t_max));
+        let mut hits = [None; PACKET];
+        mesh.intersect_packet_on::<crate::accel::lanes::Portable>(&rays, t_max, &mut hits);
+        prop_assert_eq!(&single[..], &hits[..rays.len()]);
+        prop_assert_eq!(blocked, mesh.occluded_packet_on::<crate::accel::lanes::Portable>(&rays, t_max));
+    }
+}
