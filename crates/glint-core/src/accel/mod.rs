@@ -2,10 +2,12 @@
 //! collapsed from it that rays traverse.
 
 mod bvh;
+mod huge_pages;
 pub mod lanes;
 mod packet;
 mod wide;
 
 pub use bvh::{Bvh, BvhNode};
+pub use huge_pages::on_huge_pages;
 pub use packet::{PACKET, bits};
 pub use wide::{EMPTY, Order, WIDTH, WideBvh, WideNode};

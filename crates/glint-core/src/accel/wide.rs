@@ -94,7 +94,7 @@ impl WideBvh {
             }
         }
         let bounds = bvh.nodes.first().map(|r| (r.min, r.max));
-        WideBvh { nodes, bounds }
+        WideBvh { nodes: super::on_huge_pages(nodes), bounds }
     }
 
     pub fn bounds(&self) -> Aabb {
@@ -132,18 +132,21 @@ impl WideBvh {
         loop {
             // A child of the node just tested is visited straight away rather than pushed
             // and at once popped again; otherwise the top of the stack.
-            let (index, count, t_enter) = match next.take() {
-                Some(entry) => entry,
+            let (index, count) = match next.take() {
+                // Entered before `t_max`: the node test just said so.
+                Some((index, count, _)) => (index, count),
                 None if top > 0 => {
                     top -= 1;
                     // SAFETY: entries below `top` were all written by a push.
-                    unsafe { stack[top].assume_init() }
+                    let (index, count, t_enter) = unsafe { stack[top].assume_init() };
+                    // A closer hit found since the push rules the node out.
+                    if t_enter > *t_max {
+                        continue;
+                    }
+                    (index, count)
                 }
                 None => return,
             };
-            if t_enter > *t_max {
-                continue;
-            }
             if count > 0 {
                 for prim in index..index + count {
                     if visit(prim, t_max) {
@@ -162,8 +165,11 @@ impl WideBvh {
                 let (child, count) = (n.child[lane], n.count[lane]);
                 if count == 0 {
                     prefetch(&self.nodes[child as usize]);
-                } else if let Some(first) = leaves.get(child as usize) {
-                    prefetch(first);
+                } else {
+                    // Every primitive of the leaf (at most a few packets).
+                    for leaf in leaves.iter().skip(child as usize).take(count as usize) {
+                        prefetch(leaf);
+                    }
                 }
                 (child, count, near[lane])
             };

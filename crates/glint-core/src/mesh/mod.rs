@@ -158,7 +158,7 @@ impl Mesh {
                 node.count[lane] = packets.len() as u32 - node.child[lane];
             }
         }
-        self.packets = packets;
+        self.packets = crate::accel::on_huge_pages(packets);
     }
 
     /// Stores vertices in the order the (BVH-ordered) triangles first use them, so that
