@@ -168,9 +168,11 @@ pub fn run(input: &BenchInput, mut progress: impl FnMut(&str)) -> Result<Vec<Mea
             let order = tile_order(rays.len());
             let packets: Vec<Ray> = order.iter().map(|&i| rays[i]).collect();
             let (secs, packet_hits) = best_of_3(thread_cpu_seconds, || {
-                let mut out = vec![None; packets.len()];
-                for (rays, hits) in packets.chunks(PACKET).zip(out.chunks_mut(PACKET)) {
-                    mesh.intersect_packet(rays, f32::INFINITY, hits);
+                let mut out = Vec::with_capacity(packets.len());
+                for rays in packets.chunks(PACKET) {
+                    let mut hits = [None; PACKET];
+                    mesh.intersect_packet(rays, u32::MAX, &mut [f32::INFINITY; PACKET], &mut hits);
+                    out.extend_from_slice(&hits[..rays.len()]);
                 }
                 out
             });

@@ -9,9 +9,11 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
+use crate::accel::PACKET;
 use crate::desc::AdaptiveDesc;
 use crate::film::{FilmTile, Image, linear_to_srgb};
 use crate::integrator::{Counters, TraceContext, whitted};
+use crate::math::Ray;
 use crate::sampling::{PixelSampler, Rng, SamplePattern, hash};
 use crate::scene::RenderScene;
 
@@ -94,16 +96,8 @@ fn render_tile(scene: &RenderScene, x0: u32, y0: u32) -> TileResult {
     let mut counters = Counters::default();
     let samples = match s.adaptive {
         None => {
-            let sampler = &s.sampler;
-            for py in y0..y1 {
-                for px in x0..x1 {
-                    for index in 0..sampler.count() {
-                        let (fx, fy, value) = trace_sample(scene, sampler, px, py, index, &mut counters);
-                        film.splat(&s.filter, fx, fy, value);
-                    }
-                }
-            }
-            vec![sampler.count(); ((x1 - x0) * (y1 - y0)) as usize]
+            uniform_tile(scene, (x0, y0, x1, y1), &mut film, &mut counters);
+            vec![s.sampler.count(); ((x1 - x0) * (y1 - y0)) as usize]
         }
         Some(adaptive) => adaptive_tile(scene, &adaptive, (x0, y0, x1, y1), &mut film, &mut counters),
     };
@@ -177,6 +171,58 @@ fn adaptive_tile(
     counts
 }
 
+/// Every sample of every pixel of the tile `(x0, y0, x1, y1)`, splatted into `film` in
+/// pixel order. Camera rays go out in packets: sample `index` of up to [`PACKET`]
+/// neighbouring pixels of a row at once ([`RenderScene::intersect_packet`]); each is
+/// then shaded on its own.
+fn uniform_tile(scene: &RenderScene, tile: (u32, u32, u32, u32), film: &mut FilmTile, counters: &mut Counters) {
+    let (x0, y0, x1, y1) = tile;
+    let s = &scene.settings;
+    let count = s.sampler.count() as usize;
+    // Per pixel of a run, per sample: film position and value.
+    let mut values = vec![(0.0f32, 0.0f32, Vec3::ZERO); PACKET * count];
+    for py in y0..y1 {
+        for run_x in (x0..x1).step_by(PACKET) {
+            let run = (x1 - run_x).min(PACKET as u32) as usize;
+            for index in 0..count as u32 {
+                let mut samples: [CameraSample; PACKET] =
+                    std::array::from_fn(|k| camera_sample(scene, &s.sampler, run_x + k.min(run - 1) as u32, py, index));
+                let rays: [Ray; PACKET] = std::array::from_fn(|k| samples[k].ray);
+                let mut hits = [None; PACKET];
+                scene.intersect_packet(&rays[..run], &mut hits[..run]);
+                for (k, sample) in samples.iter_mut().enumerate().take(run) {
+                    let value = whitted::shade(scene, &sample.ray, hits[k], 0, Vec3::ONE, &mut sample.ctx);
+                    counters.rays += sample.ctx.counters.rays;
+                    values[k * count + index as usize] = (sample.fx, sample.fy, finite_or_black(value));
+                }
+            }
+            for &(fx, fy, value) in &values[..run * count] {
+                film.splat(&s.filter, fx, fy, value);
+            }
+        }
+    }
+}
+
+/// A camera sample ready to trace: its film position (pixels), its ray, and the
+/// context whose random stream it has started to use.
+struct CameraSample {
+    fx: f32,
+    fy: f32,
+    ray: Ray,
+    ctx: TraceContext,
+}
+
+/// Sample `index` of pixel (`px`, `py`), up to its camera ray.
+fn camera_sample(scene: &RenderScene, sampler: &PixelSampler, px: u32, py: u32, index: u32) -> CameraSample {
+    let offset = sampler.offset(px, py, index);
+    let (fx, fy) = (px as f32 + offset.x, py as f32 + offset.y);
+    let mut ctx =
+        TraceContext { counters: Counters::default(), rng: Rng::new(hash(&[px, py, index, scene.settings.seed])) };
+    let lens = Vec2::new(ctx.rng.next_f32(), ctx.rng.next_f32());
+    let ray = camera_ray(scene, fx, fy, lens, &mut ctx);
+    CameraSample { fx, fy, ray, ctx }
+}
+
 /// Traces sample `index` of pixel (`px`, `py`): returns its film position (pixels) and
 /// its value.
 fn trace_sample(
@@ -187,19 +233,22 @@ fn trace_sample(
     index: u32,
     counters: &mut Counters,
 ) -> (f32, f32, Vec3) {
-    let offset = sampler.offset(px, py, index);
-    let (fx, fy) = (px as f32 + offset.x, py as f32 + offset.y);
-    let mut ctx =
-        TraceContext { counters: Counters::default(), rng: Rng::new(hash(&[px, py, index, scene.settings.seed])) };
-    let lens = Vec2::new(ctx.rng.next_f32(), ctx.rng.next_f32());
-    let value = trace_film_point(scene, fx, fy, lens, &mut ctx);
-    counters.rays += ctx.counters.rays;
-    (fx, fy, value)
+    let mut sample = camera_sample(scene, sampler, px, py, index);
+    let value = whitted::radiance(scene, &sample.ray, 0, Vec3::ONE, &mut sample.ctx);
+    counters.rays += sample.ctx.counters.rays;
+    (sample.fx, sample.fy, finite_or_black(value))
 }
 
-/// Radiance through film position (`fx`, `fy`) in pixels (y down). A non-finite result
-/// (a NaN from a degenerate configuration) becomes black instead of poisoning the pixel.
+/// Radiance through film position (`fx`, `fy`) in pixels (y down).
 fn trace_film_point(scene: &RenderScene, fx: f32, fy: f32, lens: Vec2, ctx: &mut TraceContext) -> Vec3 {
+    let ray = camera_ray(scene, fx, fy, lens, ctx);
+    finite_or_black(whitted::radiance(scene, &ray, 0, Vec3::ONE, ctx))
+}
+
+/// The camera ray through film position (`fx`, `fy`) in pixels (y down), through lens
+/// point `lens`, at a moment of the shutter interval drawn from `ctx` where anything
+/// moves.
+fn camera_ray(scene: &RenderScene, fx: f32, fy: f32, lens: Vec2, ctx: &mut TraceContext) -> Ray {
     let s = &scene.settings;
     // Screen space to the film plane: x, y in [−1, 1], +y up.
     let x = 2.0 * fx / s.width as f32 - 1.0;
@@ -209,7 +258,12 @@ fn trace_film_point(scene: &RenderScene, fx: f32, fy: f32, lens: Vec2, ctx: &mut
         // A moment in the shutter interval, for motion blur.
         ray.time = ctx.rng.next_f32();
     }
-    let value = whitted::radiance(scene, &ray, 0, Vec3::ONE, ctx);
+    ray
+}
+
+/// A non-finite value (a NaN from a degenerate configuration) becomes black instead of
+/// poisoning the pixel.
+fn finite_or_black(value: Vec3) -> Vec3 {
     if value.is_finite() { value } else { Vec3::ZERO }
 }
 

@@ -17,6 +17,7 @@ use crate::sampling::{Filter, PixelSampler};
 use crate::shape::{Shape, ShapeKind, ShapeTables};
 
 mod motion;
+mod packet;
 mod solids;
 
 use crate::texture::Texture;
@@ -425,6 +426,11 @@ impl RenderScene {
             test(index as u32, &mut t_max);
         }
         let (index, hit) = best?;
+        Some(self.hit_from(ray, index, hit))
+    }
+
+    /// The full [`Hit`] of `ray` from its closest hit `hit` on instance `index`.
+    fn hit_from(&self, ray: &Ray, index: u32, hit: crate::shape::ShapeHit) -> Hit {
         let inst = &self.instances[index as usize];
         let xf = self.transform_at(inst, ray.time);
         let local = xf.ray_to_object(ray);
@@ -439,7 +445,7 @@ impl RenderScene {
             }
         };
         let normal = xf.normal_to_world(surface.normal).normalize_or(Vec3::Y);
-        Some(Hit {
+        Hit {
             t: hit.t,
             point: xf.point_to_world(surface.point),
             normal,
@@ -447,7 +453,7 @@ impl RenderScene {
             shadow_point: xf.point_to_world(shadow_point),
             uv: surface.uv,
             material: inst.shape.hit_material(&self.shape_tables, hit).unwrap_or(inst.material),
-        })
+        }
     }
 
     /// Whether anything blocks the segment `0 < t < t_max`; stops at the first hit.

@@ -128,3 +128,56 @@ fn a_mirrored_instance_keeps_its_normals_outside() {
         assert!(hit.normal.dot(dir) < 0.0 && hit.geometric_normal.dot(dir) < 0.0, "{dir}: {hit:?}");
     }
 }
+
+/// Camera-ray packets through a scene of instanced meshes, analytic shapes, an
+/// unbounded plane and a moving mesh find, ray by ray, the hits single rays find.
+#[test]
+fn packets_find_what_single_rays_find() {
+    let mut desc = base();
+    desc.meshes.push(octahedron());
+    desc.objects = placements().into_iter().map(|ops| node(0, ops)).collect();
+    let shape =
+        |shape, transform| NodeDesc { transform, kind: NodeKind::Shape { shape, material: 0 }, origin: String::new() };
+    desc.objects.push(shape(ShapeDesc::Sphere, vec![TransformOp::Translate(Vec3::new(0.0, 1.2, -1.0))]));
+    desc.objects.push(shape(ShapeDesc::Plane, vec![TransformOp::Translate(Vec3::new(0.0, -1.2, 0.0))]));
+    desc.objects.push(NodeDesc {
+        transform: vec![TransformOp::Translate(Vec3::new(0.0, 0.0, -2.0))],
+        kind: NodeKind::Moving {
+            close: vec![TransformOp::Translate(Vec3::new(0.8, 0.0, -2.0))],
+            children: vec![node(0, vec![TransformOp::Scale(Vec3::splat(0.7))])],
+        },
+        origin: String::new(),
+    });
+    let scene = compile(&desc).expect("valid scene");
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 40) as f32 / (1u64 << 24) as f32
+    };
+    let eye = Vec3::new(0.0, 0.5, 6.0);
+    let mut tested = 0;
+    for _ in 0..2000 {
+        let (cx, cy) = (next() * 2.0 - 1.0, next() * 2.0 - 1.0);
+        let rays: Vec<_> = (0..1 + (next() * 8.0) as usize)
+            .map(|k| {
+                let dir = Vec3::new(cx + 0.01 * k as f32, cy + 0.02 * next(), -1.0);
+                let mut ray = glint_core::math::Ray::new(eye, dir);
+                ray.time = next();
+                ray
+            })
+            .collect();
+        let mut hits = [None; 8];
+        scene.intersect_packet(&rays, &mut hits);
+        for (ray, packet) in rays.iter().zip(hits) {
+            let single = scene.intersect(ray, f32::INFINITY);
+            assert_eq!(
+                single.map(|h| (h.t, h.point, h.normal, h.material)),
+                packet.map(|h| (h.t, h.point, h.normal, h.material))
+            );
+            tested += usize::from(single.is_some());
+        }
+    }
+    assert!(tested > 3000, "too few rays hit anything: {tested}");
+}

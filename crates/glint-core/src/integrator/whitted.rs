@@ -18,8 +18,21 @@ use crate::scene::{Hit, RenderScene};
 /// Radiance arriving along `ray`. `weight` is the product of the `k·O` factors that
 /// lead from the pixel to this ray, used only to stop negligible recursion.
 pub fn radiance(scene: &RenderScene, ray: &Ray, depth: u32, weight: Vec3, ctx: &mut TraceContext) -> Vec3 {
+    shade(scene, ray, scene.intersect(ray, f32::INFINITY), depth, weight, ctx)
+}
+
+/// [`radiance`] along `ray` whose closest hit is already known: camera rays are
+/// intersected in packets ([`RenderScene::intersect_packet`]) and shaded one by one.
+pub fn shade(
+    scene: &RenderScene,
+    ray: &Ray,
+    hit: Option<Hit>,
+    depth: u32,
+    weight: Vec3,
+    ctx: &mut TraceContext,
+) -> Vec3 {
     ctx.counters.rays += 1;
-    let Some(hit) = scene.intersect(ray, f32::INFINITY) else {
+    let Some(hit) = hit else {
         return scene.settings.background;
     };
     let material = &scene.materials[hit.material as usize];

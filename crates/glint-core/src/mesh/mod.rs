@@ -222,15 +222,23 @@ impl Mesh {
     }
 
     /// [`Mesh::intersect`] for up to [`PACKET`] coherent rays (neighbouring camera
-    /// rays) at once: `hits[i]` becomes the closest hit of `rays[i]`, the same one the
-    /// single-ray query finds, with less traversal work per ray.
-    pub fn intersect_packet(&self, rays: &[Ray], t_max: f32, hits: &mut [Option<ShapeHit>]) {
+    /// rays) at once, the rays of mask `active`: where `rays[i]` hits closer than
+    /// `t_max[i]`, `t_max[i]` becomes the hit's distance and `hits[i]` the hit — the
+    /// closest one, as the single-ray query finds it, with less traversal work per ray.
+    /// Other entries are left as they are, so a caller can carry them across meshes.
+    pub fn intersect_packet(
+        &self,
+        rays: &[Ray],
+        active: u32,
+        t_max: &mut [f32; PACKET],
+        hits: &mut [Option<ShapeHit>; PACKET],
+    ) {
         #[cfg(target_arch = "x86_64")]
         if crate::accel::lanes::has_avx2() {
             // SAFETY: this CPU has AVX2.
-            return unsafe { self.intersect_packet_avx2(rays, t_max, hits) };
+            return unsafe { self.intersect_packet_avx2(rays, active, t_max, hits) };
         }
-        self.intersect_packet_on::<Portable>(rays, t_max, hits);
+        self.intersect_packet_on::<Portable>(rays, active, t_max, hits);
     }
 
     /// [`Mesh::occluded`] for up to [`PACKET`] coherent rays: bit `i` of the result is
@@ -246,8 +254,14 @@ impl Mesh {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn intersect_packet_avx2(&self, rays: &[Ray], t_max: f32, hits: &mut [Option<ShapeHit>]) {
-        self.intersect_packet_on::<crate::accel::lanes::Avx2>(rays, t_max, hits);
+    fn intersect_packet_avx2(
+        &self,
+        rays: &[Ray],
+        active: u32,
+        t_max: &mut [f32; PACKET],
+        hits: &mut [Option<ShapeHit>; PACKET],
+    ) {
+        self.intersect_packet_on::<crate::accel::lanes::Avx2>(rays, active, t_max, hits);
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -269,12 +283,16 @@ impl Mesh {
     }
 
     #[inline(always)]
-    fn intersect_packet_on<L: F32x8>(&self, rays: &[Ray], t_max: f32, hits: &mut [Option<ShapeHit>]) {
-        assert!(rays.len() <= PACKET && hits.len() >= rays.len(), "at most {PACKET} rays, one hit slot each");
-        let (wrays, active) = Self::packet_rays(rays);
-        hits.fill(None);
-        let mut t = [t_max; PACKET];
-        self.bvh.traverse_packet::<L, _>(&self.packets, rays, active, &mut t, |packet, in_leaf, t| {
+    fn intersect_packet_on<L: F32x8>(
+        &self,
+        rays: &[Ray],
+        active: u32,
+        t_max: &mut [f32; PACKET],
+        hits: &mut [Option<ShapeHit>; PACKET],
+    ) {
+        assert!(rays.len() <= PACKET, "at most {PACKET} rays");
+        let (wrays, valid) = Self::packet_rays(rays);
+        self.bvh.traverse_packet::<L, _>(&self.packets, rays, active & valid, t_max, |packet, in_leaf, t| {
             let packet = &self.packets[packet as usize];
             for r in bits(in_leaf) {
                 if let Some(w) = &wrays[r]

@@ -177,13 +177,23 @@ proptest! {
         }).collect();
         let single: Vec<_> = rays.iter().map(|r| mesh.intersect(r, t_max)).collect();
         let blocked = rays.iter().enumerate().fold(0u32, |m, (i, r)| m | u32::from(mesh.occluded(r, t_max)) << i);
+        let all = (1 << rays.len()) - 1;
         let mut hits = [None; PACKET];
-        mesh.intersect_packet(&rays, t_max, &mut hits);
+        mesh.intersect_packet(&rays, all, &mut [t_max; PACKET], &mut hits);
         prop_assert_eq!(&single[..], &hits[..rays.len()]);
         prop_assert_eq!(blocked, mesh.occluded_packet(&rays, t_max));
         let mut hits = [None; PACKET];
-        mesh.intersect_packet_on::<crate::accel::lanes::Portable>(&rays, t_max, &mut hits);
+        mesh.intersect_packet_on::<crate::accel::lanes::Portable>(&rays, all, &mut [t_max; PACKET], &mut hits);
         prop_assert_eq!(&single[..], &hits[..rays.len()]);
+        // Rays outside the mask are left alone.
+        let mut hits = [None; PACKET];
+        let mut t = [t_max; PACKET];
+        mesh.intersect_packet(&rays, all & 0b1010_1010, &mut t, &mut hits);
+        for (i, hit) in hits.iter().enumerate().take(rays.len()) {
+            let expected = if i % 2 == 1 { single[i] } else { None };
+            prop_assert_eq!(*hit, expected);
+            prop_assert_eq!(t[i], expected.map_or(t_max, |h| h.t));
+        }
         prop_assert_eq!(blocked, mesh.occluded_packet_on::<crate::accel::lanes::Portable>(&rays, t_max));
     }
 }
