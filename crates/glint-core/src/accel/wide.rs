@@ -20,8 +20,9 @@ pub const WIDTH: usize = 8;
 /// `count` of an unused child slot.
 pub const EMPTY: u32 = u32::MAX;
 
-/// Eight child boxes and what each child is; 256 bytes, four cache lines.
-#[repr(C, align(32))]
+/// Eight child boxes and what each child is; 256 bytes, four cache lines and aligned
+/// to them, so a node never straddles a fifth.
+#[repr(C, align(64))]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct WideNode {
     /// `bounds[2·axis]` holds the children's lower bounds on `axis` and
