@@ -1,6 +1,6 @@
 """Generates the shared mesh and rays for bench/embree_compare.sh and times Embree on them.
 
-Writes DIR/scene.bin (read by glint's mesh_bench example too) and prints one JSON line of
+Writes DIR/scene.bin (read by `glint bench --input` and the obvhs_bench example too) and prints one JSON line of
 Embree's timings. Layout of scene.bin, little-endian:
   b"GLBENCH1", u32 vertex count V, u32 triangle count T, u32 coherent rays C, u32 incoherent rays I,
   f32[V*3] positions, u32[T*3] indices, f32[C*6] coherent rays (origin, direction),
