@@ -69,7 +69,7 @@ impl F32x8 for Portable {
 }
 
 #[cfg(target_arch = "x86_64")]
-pub use avx::{Avx2, has_avx2};
+pub(crate) use avx::{Avx2, has_avx2};
 
 /// Asks the CPU to start loading the `bytes` at `value` into cache now: a node the
 /// traversal will test soon is then (mostly) there when it gets to it, as Embree's
@@ -95,15 +95,16 @@ mod avx {
 
     use super::F32x8;
 
-    /// One 256-bit AVX register. Only sound inside functions compiled with
-    /// `#[target_feature(enable = "avx2")]` and called after [`has_avx2`] said yes; the
-    /// methods are `inline(always)` so they melt into such a function.
+    /// One 256-bit AVX register. Its methods run AVX instructions, so they are sound only
+    /// on a CPU that has them: crate-private, and used only after [`has_avx2`] said yes.
+    /// They are `inline(always)` so they melt into the `#[target_feature(enable =
+    /// "avx2")]` functions that call them (elsewhere they would not inline).
     #[derive(Clone, Copy, Debug)]
-    pub struct Avx2(__m256);
+    pub(crate) struct Avx2(__m256);
 
     /// Whether this CPU runs the AVX2 code paths (the answer is cached by `std`).
     #[inline]
-    pub fn has_avx2() -> bool {
+    pub(crate) fn has_avx2() -> bool {
         std::arch::is_x86_feature_detected!("avx2")
     }
 

@@ -1,9 +1,10 @@
 //! Packets of up to eight coherent rays (camera rays of neighbouring pixels) traversing
 //! the wide BVH together: each node is fetched, its hit children sorted and pushed once
 //! for the whole packet, and only the rays that entered a child go on with it. Each ray
-//! still tests the node's eight boxes in one SIMD slab test, so a ray visits exactly the
-//! nodes its single-ray traversal would have, and finds the same hits; what the packet
-//! saves is the per-node bookkeeping (Wald et al., "Interactive Rendering with Coherent
+//! still tests the node's eight boxes in one SIMD slab test and reaches every leaf its
+//! closest hit lies in, so it finds the closest hit its single-ray traversal finds; only
+//! the order of the visits differs, which decides between surfaces hit at exactly the
+//! same distance. What the packet saves is the per-node bookkeeping (Wald et al., "Interactive Rendering with Coherent
 //! Ray Tracing", 2001, with the rays rather than the boxes in the SIMD lanes reversed,
 //! as wide BVHs need).
 

@@ -167,8 +167,9 @@ impl WideBvh {
                 if count == 0 {
                     prefetch(&self.nodes[child as usize]);
                 } else {
-                    // Every primitive of the leaf (at most a few packets).
-                    for leaf in leaves.iter().skip(child as usize).take(count as usize) {
+                    // The leaf's primitives: a packet or two, except in the rare leaf the
+                    // depth limit forced, whose first few are enough.
+                    for leaf in leaves.iter().skip(child as usize).take(count.min(4) as usize) {
                         prefetch(leaf);
                     }
                 }

@@ -224,7 +224,8 @@ impl Mesh {
     /// [`Mesh::intersect`] for up to [`PACKET`] coherent rays (neighbouring camera
     /// rays) at once, the rays of mask `active`: where `rays[i]` hits closer than
     /// `t_max[i]`, `t_max[i]` becomes the hit's distance and `hits[i]` the hit — the
-    /// closest one, as the single-ray query finds it, with less traversal work per ray.
+    /// closest one, as the single-ray query finds it (of triangles hit at exactly the
+    /// same distance, possibly another), with less traversal work per ray.
     /// Other entries are left as they are, so a caller can carry them across meshes.
     pub fn intersect_packet(
         &self,
