@@ -10,8 +10,8 @@
 
 use std::mem::MaybeUninit;
 
-use super::lanes::{F32x8, prefetch};
-use super::wide::{STACK, SlabRay, WIDTH, WideBvh};
+use super::lanes::F32x8;
+use super::wide::{STACK, SlabRay, WIDTH, WideBvh, insert_farthest_first};
 use crate::math::Ray;
 
 /// Rays in one packet.
@@ -125,19 +125,9 @@ impl WideBvh {
             let mut k = 0;
             for lane in bits(hit) {
                 let (index, count) = (n.child[lane], n.count[lane]);
-                if count == 0 {
-                    prefetch(&self.nodes[index as usize]);
-                } else if let Some(first) = leaves.get(index as usize) {
-                    prefetch(first);
-                }
+                self.prefetch_child(leaves, index, count);
                 let e = Entry { index, count, rays: u32::from(child_rays[lane]), t_enter: child_near[lane] };
-                let mut j = k;
-                while j > 0 && sorted[j - 1].t_enter < e.t_enter {
-                    sorted[j] = sorted[j - 1];
-                    j -= 1;
-                }
-                sorted[j] = e;
-                k += 1;
+                insert_farthest_first(&mut sorted, &mut k, e, |e| e.t_enter);
             }
             for &e in &sorted[..k - 1] {
                 stack[top].write(e);

@@ -164,15 +164,7 @@ impl WideBvh {
             let near = near.to_array();
             let entry = |lane: usize| {
                 let (child, count) = (n.child[lane], n.count[lane]);
-                if count == 0 {
-                    prefetch(&self.nodes[child as usize]);
-                } else {
-                    // The leaf's primitives: a packet or two, except in the rare leaf the
-                    // depth limit forced, whose first few are enough.
-                    for leaf in leaves.iter().skip(child as usize).take(count.min(4) as usize) {
-                        prefetch(leaf);
-                    }
-                }
+                self.prefetch_child(leaves, child, count);
                 (child, count, near[lane])
             };
             if mask & (mask - 1) == 0 || order == Order::Any {
@@ -192,15 +184,8 @@ impl WideBvh {
             let mut hits = [(0u32, 0u32, 0.0f32); WIDTH];
             let mut k = 0;
             while mask != 0 {
-                let e = entry(mask.trailing_zeros() as usize);
+                insert_farthest_first(&mut hits, &mut k, entry(mask.trailing_zeros() as usize), |e| e.2);
                 mask &= mask - 1;
-                let mut j = k;
-                while j > 0 && hits[j - 1].2 < e.2 {
-                    hits[j] = hits[j - 1];
-                    j -= 1;
-                }
-                hits[j] = e;
-                k += 1;
             }
             for &e in &hits[..k - 1] {
                 stack[top].write(e);
@@ -209,6 +194,40 @@ impl WideBvh {
             next = Some(hits[k - 1]);
         }
     }
+}
+
+impl WideBvh {
+    /// Starts loading a child that is about to be pushed or visited: its node, or its
+    /// leaf's primitives (a packet or two, except in the rare leaf the depth limit
+    /// forced, whose first few are enough).
+    #[inline(always)]
+    pub(super) fn prefetch_child<P>(&self, leaves: &[P], child: u32, count: u32) {
+        if count == 0 {
+            prefetch(&self.nodes[child as usize]);
+        } else {
+            for leaf in leaves.iter().skip(child as usize).take(count.min(4) as usize) {
+                prefetch(leaf);
+            }
+        }
+    }
+}
+
+/// Inserts `entry` into `sorted[..*len]`, kept farthest first by `distance`: the caller
+/// pushes all but the last, so the nearest of the pushed ones is popped first.
+#[inline(always)]
+pub(super) fn insert_farthest_first<E: Copy>(
+    sorted: &mut [E],
+    len: &mut usize,
+    entry: E,
+    distance: impl Fn(&E) -> f32,
+) {
+    let mut j = *len;
+    while j > 0 && distance(&sorted[j - 1]) < distance(&entry) {
+        sorted[j] = sorted[j - 1];
+        j -= 1;
+    }
+    sorted[j] = entry;
+    *len += 1;
 }
 
 /// A ray prepared for slab tests against a node's eight boxes at once.
@@ -241,27 +260,31 @@ impl<L: F32x8> SlabRay<L> {
         }
     }
 
-    /// The distances at which the ray enters each of `n`'s boxes, and the mask of the
-    /// boxes it enters before `t_max`.
+    /// Where the ray enters each of `n`'s boxes and where it leaves them or reaches
+    /// `t_max`, whichever is first: a box is entered where the first is ≤ the second.
     #[inline(always)]
-    pub(super) fn test(&self, n: &WideNode, t_max: f32) -> (L, u32) {
+    fn interval(&self, n: &WideNode, t_max: f32) -> (L, L) {
         let slab = |plane: usize, axis: usize| L::load(&n.bounds[plane]).sub(self.origin[axis]).mul(self.inv[axis]);
         let [nx, ny, nz] = self.near_plane;
         let [fx, fy, fz] = self.far_plane;
         let near = slab(nx, 0).max(slab(ny, 1)).max(slab(nz, 2).max(L::splat(0.0)));
         // Widened as in `Aabb::hit_interval` so flat boxes hit on an edge are kept.
         let far = slab(fx, 0).min(slab(fy, 1)).min(slab(fz, 2));
-        (near, near.le_mask(far.mul(L::splat(ROBUST_FAR)).min(L::splat(t_max))))
+        (near, far.mul(L::splat(ROBUST_FAR)).min(L::splat(t_max)))
+    }
+
+    /// The distances at which the ray enters each of `n`'s boxes, and the mask of the
+    /// boxes it enters before `t_max`.
+    #[inline(always)]
+    pub(super) fn test(&self, n: &WideNode, t_max: f32) -> (L, u32) {
+        let (near, far) = self.interval(n, t_max);
+        (near, near.le_mask(far))
     }
 
     /// As [`SlabRay::test`], with +∞ as the entry distance of the boxes missed.
     #[inline(always)]
     pub(super) fn test_or_infinity(&self, n: &WideNode, t_max: f32) -> (L, u32) {
-        let slab = |plane: usize, axis: usize| L::load(&n.bounds[plane]).sub(self.origin[axis]).mul(self.inv[axis]);
-        let [nx, ny, nz] = self.near_plane;
-        let [fx, fy, fz] = self.far_plane;
-        let near = slab(nx, 0).max(slab(ny, 1)).max(slab(nz, 2).max(L::splat(0.0)));
-        let far = slab(fx, 0).min(slab(fy, 1)).min(slab(fz, 2)).mul(L::splat(ROBUST_FAR)).min(L::splat(t_max));
+        let (near, far) = self.interval(n, t_max);
         (near.select_le(far, near, L::splat(f32::INFINITY)), near.le_mask(far))
     }
 }
