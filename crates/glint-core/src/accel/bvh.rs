@@ -47,7 +47,9 @@ pub struct Bvh {
 /// The primitives under one node.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Span {
+    /// The first primitive, in the order [`Bvh::build`] returns.
     pub first: u32,
+    /// How many primitives, contiguous from `first`.
     pub count: u32,
     /// The SAH finds one leaf of these cheaper than any split (always true of a leaf).
     pub leaf: bool,

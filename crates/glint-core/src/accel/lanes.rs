@@ -8,9 +8,13 @@ use glam::Vec4;
 /// The few operations a slab test over eight boxes needs. Results are the same, lane
 /// for lane and bit for bit, in every implementation (plain IEEE operations, no FMA).
 pub trait F32x8: Copy {
+    /// The eight values, lane `i` = `values[i]`.
     fn load(values: &[f32; 8]) -> Self;
+    /// `x` in every lane.
     fn splat(x: f32) -> Self;
+    /// Lane-wise `self − other`.
     fn sub(self, other: Self) -> Self;
+    /// Lane-wise `self · other`.
     fn mul(self, other: Self) -> Self;
     /// The smaller of each pair (the second operand where either is NaN).
     fn min(self, other: Self) -> Self;
@@ -20,6 +24,7 @@ pub trait F32x8: Copy {
     fn le_mask(self, other: Self) -> u32;
     /// `yes` in the lanes where `self` ≤ `other`, `no` in the others.
     fn select_le(self, other: Self, yes: Self, no: Self) -> Self;
+    /// The lanes back as an array, lane `i` at index `i`.
     fn to_array(self) -> [f32; 8];
 }
 

@@ -98,6 +98,8 @@ impl WideBvh {
         WideBvh { nodes: super::on_huge_pages(nodes), bounds }
     }
 
+    /// Bounds of everything in the hierarchy (empty when it holds nothing), kept apart
+    /// from the nodes because the root node stores only its children's boxes.
     pub fn bounds(&self) -> Aabb {
         self.bounds.map_or(Aabb::EMPTY, |(min, max)| Aabb::new(min, max))
     }
