@@ -31,7 +31,7 @@ impl BvhNode {
 /// caller must store its primitives so that each leaf covers a contiguous range.
 ///
 /// It is split down to leaves of one block, further than the SAH would stop, and each
-/// node records in [`Bvh::spans`] whether the SAH finds one leaf of it cheaper: the
+/// node records in [`Bvh::leaf_preferred`] whether the SAH finds one leaf of it cheaper: the
 /// collapse to [`super::WideBvh`] opens nodes past that point to fill its eight slots,
 /// as Embree's builders do, and ends a branch where the SAH asks for a leaf.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -40,19 +40,9 @@ pub struct Bvh {
     /// children, so subtrees build in parallel without sharing any. Slots a subtree did
     /// not need stay zeroed and unreferenced.
     pub nodes: Vec<BvhNode>,
-    /// Per node: its primitives and whether a leaf of them is what the SAH prefers.
-    pub spans: Vec<Span>,
-}
-
-/// The primitives under one node.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Span {
-    /// The first primitive, in the order [`Bvh::build`] returns.
-    pub first: u32,
-    /// How many primitives, contiguous from `first`.
-    pub count: u32,
-    /// The SAH finds one leaf of these cheaper than any split (always true of a leaf).
-    pub leaf: bool,
+    /// Per node: whether the SAH finds one leaf of its primitives cheaper than any
+    /// split (always true of a leaf). One byte a slot: build scratch stays small.
+    pub leaf_preferred: Vec<bool>,
 }
 
 const BINS: usize = 16;
@@ -104,12 +94,26 @@ impl Bvh {
             return (Bvh::default(), vec![]);
         }
         let mut nodes = vec![BvhNode::zeroed(); 2 * n];
-        let mut spans = vec![Span::default(); 2 * n];
+        let mut leaf_preferred = vec![false; 2 * n];
         let (root_node, rest) = nodes.split_at_mut(2);
-        let (root_span, rest_spans) = spans.split_at_mut(2);
-        let region = Region { nodes: rest, spans: rest_spans, start: 2 };
-        (root_node[0], root_span[0]) = build_subtree(&mut items, 0, 0, region, params);
-        (Bvh { nodes, spans }, items.iter().map(|it| it.index).collect())
+        let (root_leaf, rest_leaf) = leaf_preferred.split_at_mut(2);
+        let region = Region { nodes: rest, leaf_preferred: rest_leaf, start: 2 };
+        (root_node[0], root_leaf[0]) = build_subtree(&mut items, 0, 0, region, params);
+        (Bvh { nodes, leaf_preferred }, items.iter().map(|it| it.index).collect())
+    }
+
+    /// The primitives under `node` as `(first, count)`: a contiguous range from its
+    /// leftmost leaf to the end of its rightmost one.
+    pub fn primitives(&self, node: usize) -> (u32, u32) {
+        let leaf_along = |step: u32| {
+            let mut k = node;
+            while self.nodes[k].count == 0 {
+                k = (self.nodes[k].index + step) as usize;
+            }
+            self.nodes[k]
+        };
+        let (first, last) = (leaf_along(0), leaf_along(1));
+        (first.index, last.index + last.count - first.index)
     }
 
     /// Calls `visit(primitive, t_max)` for every primitive whose leaf box the ray
@@ -185,39 +189,37 @@ impl Bvh {
 /// first in the whole array.
 struct Region<'a> {
     nodes: &'a mut [BvhNode],
-    spans: &'a mut [Span],
+    leaf_preferred: &'a mut [bool],
     start: usize,
 }
 
 /// Builds the subtree over `items` (whose first element is primitive `first`), its
 /// descendants into `region`, and returns its root.
-fn build_subtree(items: &mut [BuildItem], first: u32, depth: usize, region: Region, params: Params) -> (BvhNode, Span) {
+fn build_subtree(items: &mut [BuildItem], first: u32, depth: usize, region: Region, params: Params) -> (BvhNode, bool) {
     let bounds = items.iter().fold(Aabb::EMPTY, |b, it| b.union(it.bounds));
     let n = items.len();
     let leaf = BvhNode { min: bounds.min, index: first, max: bounds.max, count: n as u32 };
-    let mut span = Span { first, count: n as u32, leaf: true };
     if n <= params.block || depth >= MAX_DEPTH {
-        return (leaf, span);
+        return (leaf, true);
     }
     let (mid, leaf_cheaper) = sah_partition(items, &bounds, params);
-    span.leaf = leaf_cheaper;
-    let Region { nodes, spans, start } = region;
+    let Region { nodes, leaf_preferred, start } = region;
     let (children, rest) = nodes.split_at_mut(2);
-    let (child_spans, rest_spans) = spans.split_at_mut(2);
+    let (child_leaf, rest_leaf) = leaf_preferred.split_at_mut(2);
     let left_len = 2 * mid - 2;
     let (left_nodes, right_nodes) = rest.split_at_mut(left_len);
-    let (left_spans, right_spans) = rest_spans.split_at_mut(left_len);
-    let left_region = Region { nodes: left_nodes, spans: left_spans, start: start + 2 };
-    let right_region = Region { nodes: right_nodes, spans: right_spans, start: start + 2 + left_len };
+    let (left_leaf, right_leaf) = rest_leaf.split_at_mut(left_len);
+    let left_region = Region { nodes: left_nodes, leaf_preferred: left_leaf, start: start + 2 };
+    let right_region = Region { nodes: right_nodes, leaf_preferred: right_leaf, start: start + 2 + left_len };
     let (left_items, right_items) = items.split_at_mut(mid);
     let right_first = first + mid as u32;
     let build_left = || build_subtree(left_items, first, depth + 1, left_region, params);
     let build_right = || build_subtree(right_items, right_first, depth + 1, right_region, params);
     let (left, right) =
         if n > PARALLEL_ABOVE { rayon::join(build_left, build_right) } else { (build_left(), build_right()) };
-    (children[0], child_spans[0]) = left;
-    (children[1], child_spans[1]) = right;
-    (BvhNode { min: bounds.min, index: start as u32, max: bounds.max, count: 0 }, span)
+    (children[0], child_leaf[0]) = left;
+    (children[1], child_leaf[1]) = right;
+    (BvhNode { min: bounds.min, index: start as u32, max: bounds.max, count: 0 }, leaf_cheaper)
 }
 
 /// Partitions `items` at the cheapest binned SAH split (in the middle where all
@@ -344,5 +346,27 @@ mod tests {
         }
         assert!(seen.iter().all(|&s| s == 1));
         assert!(bvh.nodes.iter().filter(|n| n.count > 0).all(|n| n.count == 1));
+        // A node's primitives are the leaves below it, contiguous.
+        let below = |node: usize| {
+            let (mut stack, mut prims) = (vec![node], vec![]);
+            while let Some(k) = stack.pop() {
+                let n = bvh.nodes[k];
+                if n.count > 0 {
+                    prims.extend(n.index..n.index + n.count);
+                } else {
+                    stack.extend([n.index as usize, n.index as usize + 1]);
+                }
+            }
+            prims.sort();
+            prims
+        };
+        let mut reachable = vec![0usize];
+        while let Some(k) = reachable.pop() {
+            let (first, count) = bvh.primitives(k);
+            assert_eq!(below(k), (first..first + count).collect::<Vec<_>>());
+            if bvh.nodes[k].count == 0 {
+                reachable.extend([bvh.nodes[k].index as usize, bvh.nodes[k].index as usize + 1]);
+            }
+        }
     }
 }

@@ -83,12 +83,11 @@ impl WideBvh {
     /// Collapses `bvh` (whose primitive order stays valid).
     pub fn from_binary(bvh: &Bvh) -> WideBvh {
         let mut nodes = Vec::with_capacity(bvh.nodes.len() / 4 + 1);
-        if let (Some(root), Some(span)) = (bvh.nodes.first(), bvh.spans.first()) {
-            if span.leaf {
+        if let Some(root) = bvh.nodes.first() {
+            if bvh.leaf_preferred[0] {
                 let mut node = WideNode::UNUSED;
                 node.set_box(0, Aabb::new(root.min, root.max));
-                node.child[0] = span.first;
-                node.count[0] = span.count;
+                (node.child[0], node.count[0]) = bvh.primitives(0);
                 nodes.push(node);
             } else {
                 collapse(bvh, 0, &mut nodes);
@@ -314,8 +313,8 @@ fn collapse(bvh: &Bvh, n2: usize, out: &mut Vec<WideNode>) -> u32 {
         kids.extend([first, first + 1]);
     }
     for (lane, &k) in kids.iter().enumerate() {
-        let (child, span) = (bvh.nodes[k], bvh.spans[k]);
-        let (index, count) = if span.leaf { (span.first, span.count) } else { (collapse(bvh, k, out), 0) };
+        let child = bvh.nodes[k];
+        let (index, count) = if bvh.leaf_preferred[k] { bvh.primitives(k) } else { (collapse(bvh, k, out), 0) };
         let n = &mut out[me];
         n.set_box(lane, Aabb::new(child.min, child.max));
         n.child[lane] = index;
