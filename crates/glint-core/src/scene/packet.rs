@@ -113,7 +113,7 @@ mod tests {
                     TransformOp::Scale(Vec3::splat(0.3)),
                     TransformOp::Translate(Vec3::new((i % 10) as f32, (i / 10 % 10) as f32, -((i / 100) as f32))),
                 ],
-                kind: NodeKind::Shape { shape: shapes[i % 3].clone(), material: 0 },
+                kind: NodeKind::Shape { shape: shapes[i % 3], material: 0 },
                 origin: String::new(),
             })
             .collect();
