@@ -149,13 +149,8 @@ fn packets_find_what_single_rays_find() {
         origin: String::new(),
     });
     let scene = compile(&desc).expect("valid scene");
-    let mut state = 0x9e37_79b9_7f4a_7c15u64;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 40) as f32 / (1u64 << 24) as f32
-    };
+    let mut rng = glint_core::sampling::Rng::new(11);
+    let mut next = move || rng.next_f32();
     let eye = Vec3::new(0.0, 0.5, 6.0);
     let mut tested = 0;
     for _ in 0..2000 {

@@ -345,13 +345,8 @@ mod tests {
     /// (a tree several levels deep), axis-parallel rays included.
     #[test]
     fn visits_exactly_the_boxes_the_ray_enters() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut rng = crate::sampling::Rng::new(7);
+        let mut next = move || rng.next_f32();
         let boxes = random_boxes(3000, &mut next);
         let (bvh, order) = Bvh::build(&boxes);
         let wide = WideBvh::from_binary(&bvh);
