@@ -26,11 +26,13 @@ impl WatertightRay {
     /// `None` for a zero or non-finite direction.
     #[inline]
     pub fn new(ray: &Ray) -> Option<Self> {
-        let d = ray.dir;
-        let a = d.abs();
-        let kz = if a.x > a.y {
-            if a.x > a.z { 0 } else { 2 }
-        } else if a.y > a.z {
+        // Arrays, not `Vec3`: indexing a `Vec3` by a run-time axis compiles to a chain of
+        // branches, which random directions mispredict; an array index is one load.
+        let d = ray.dir.to_array();
+        let a = d.map(f32::abs);
+        let kz = if a[0] > a[1] {
+            if a[0] > a[2] { 0 } else { 2 }
+        } else if a[1] > a[2] {
             1
         } else {
             2

@@ -63,7 +63,7 @@ pub struct WatertightRay4 {
 impl WatertightRay4 {
     pub fn new(scalar: WatertightRay) -> Self {
         let [kx, ky, kz] = scalar.k;
-        let o = scalar.origin;
+        let o = scalar.origin.to_array();
         let s = scalar.shear;
         Self { scalar, origin: [o[kx], o[ky], o[kz]].map(Vec4::splat), shear: [s.x, s.y, s.z].map(Vec4::splat) }
     }
