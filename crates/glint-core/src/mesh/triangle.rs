@@ -51,7 +51,7 @@ impl WatertightRay {
     /// A vertex in ray space: `(x, y)` relative to the ray, `z` along it (unscaled).
     #[inline]
     fn ray_space(&self, p: Vec3) -> Vec3 {
-        let a = p - self.origin;
+        let a = (p - self.origin).to_array();
         let [kx, ky, kz] = self.k;
         Vec3::new(a[kx] - self.shear.x * a[kz], a[ky] - self.shear.y * a[kz], a[kz])
     }
