@@ -19,10 +19,10 @@ if [ ! -x "$venv/bin/python" ]; then
     "$venv/bin/pip" install -q "embreex==4.4.0.post1" numpy
 fi
 cargo build -q --release -p glint-cli --bin glint --example obvhs_bench
-# Two rounds, Embree and glint interleaved, each library's best kept: other load on a
+# Three rounds, Embree and glint interleaved, each library's best kept: other load on a
 # shared machine then skews one side's numbers less.
 embree="" glint=""
-for round in 1 2; do
+for round in 1 2 3; do
     echo "round $round: generating the mesh and rays, timing Embree…" >&2
     embree="$embree$("$venv/bin/python" bench/embree_compare.py "$work")"$'\n'
     echo "round $round: timing glint (glint bench)…" >&2
@@ -45,7 +45,7 @@ def best(lines):
     return out
 e, g = best(sys.argv[1]), best(sys.argv[2])
 g.update(json.loads(sys.argv[3]))
-print(f"{int(g['triangles'])} triangles; rays on one thread, builds on all {int(g['threads'])} cores; CPU seconds, best of 3 runs x 2 interleaved rounds")
+print(f"{int(g['triangles'])} triangles; rays on one thread, builds on all {int(g['threads'])} cores; CPU seconds, best of 3 runs x 3 interleaved rounds")
 print(f"{'measure':30} {'glint':>8} {'obvhs':>8} {'Embree':>8} {'glint/Embree':>13} {'obvhs/Embree':>13}")
 def row(name, key, scale, unit):
     a, o, b = g[key] / scale, g["obvhs_" + key] / scale, e[key] / scale
