@@ -1,11 +1,12 @@
-//! A bounding-volume hierarchy built with the binned surface-area heuristic
-//! (Wald, "On fast Construction of SAH-based Bounding Volume Hierarchies", 2007) and
-//! traversed iteratively, near child first.
+//! A binary bounding-volume hierarchy built with the binned surface-area heuristic
+//! (Wald, "On fast Construction of SAH-based Bounding Volume Hierarchies", 2007), in
+//! parallel: the build step before the collapse to the 8-wide [`super::WideBvh`] that
+//! rays traverse.
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
-use crate::math::{Aabb, Ray};
+use crate::math::Aabb;
 
 /// One node, 32 bytes. An interior node's two children are stored side by side at
 /// `index` and `index + 1` (one 64-byte fetch tests both); a leaf's `index` is its first
@@ -116,69 +117,6 @@ impl Bvh {
         (first.index, last.index + last.count - first.index)
     }
 
-    /// Calls `visit(primitive, t_max)` for every primitive whose leaf box the ray
-    /// enters before `*t_max`; `visit` may shrink `t_max` (closest hit) and returns
-    /// `true` to stop at once (any hit).
-    #[inline]
-    pub fn traverse(&self, ray: &Ray, t_max: &mut f32, mut visit: impl FnMut(u32, &mut f32) -> bool) {
-        if self.nodes.is_empty() {
-            return;
-        }
-        let inv_dir = ray.dir.recip();
-        if self.nodes[0].bounds().hit_interval(ray, inv_dir, *t_max).is_none() {
-            return;
-        }
-        // Each entry keeps the distance at which the ray enters the node, so a pop can
-        // skip a node that a closer hit has since ruled out without testing its box again.
-        let mut stack = [(0u32, 0.0f32); 64];
-        let mut top = 0;
-        let mut node = 0usize;
-        loop {
-            let n = &self.nodes[node];
-            if n.count > 0 {
-                for prim in n.index..n.index + n.count {
-                    if visit(prim, t_max) {
-                        return;
-                    }
-                }
-            } else {
-                let (a, b) = (n.index as usize, n.index as usize + 1);
-                let hit_a = self.nodes[a].bounds().hit_interval(ray, inv_dir, *t_max);
-                let hit_b = self.nodes[b].bounds().hit_interval(ray, inv_dir, *t_max);
-                match (hit_a, hit_b) {
-                    (Some((ta, _)), Some((tb, _))) => {
-                        let (near, far, t_far) = if ta <= tb { (a, b, tb) } else { (b, a, ta) };
-                        stack[top] = (far as u32, t_far);
-                        top += 1;
-                        node = near;
-                        continue;
-                    }
-                    (Some(_), None) => {
-                        node = a;
-                        continue;
-                    }
-                    (None, Some(_)) => {
-                        node = b;
-                        continue;
-                    }
-                    (None, None) => {}
-                }
-            }
-            // Pop until a node the ray still reaches (t_max may have shrunk).
-            loop {
-                if top == 0 {
-                    return;
-                }
-                top -= 1;
-                let (candidate, t_enter) = stack[top];
-                if t_enter <= *t_max {
-                    node = candidate as usize;
-                    break;
-                }
-            }
-        }
-    }
-
     /// Bounds of everything in the hierarchy.
     pub fn bounds(&self) -> Aabb {
         self.nodes.first().map_or(Aabb::EMPTY, BvhNode::bounds)
@@ -287,6 +225,7 @@ fn sah_partition(items: &mut [BuildItem], bounds: &Aabb, params: Params) -> (usi
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::Ray;
     use proptest::prelude::*;
 
     fn boxes_from(seeds: &[(f32, f32, f32, f32)]) -> Vec<Aabb> {
@@ -299,15 +238,17 @@ mod tests {
             .collect()
     }
 
-    /// Every box the ray enters, found by brute force and by traversal.
+    /// Every box the ray enters, found by brute force and by traversing the wide
+    /// hierarchy collapsed from this one.
     fn entered(boxes: &[Aabb], ray: &Ray) -> (Vec<u32>, Vec<u32>) {
         let inv = ray.dir.recip();
         let brute: Vec<u32> = (0..boxes.len() as u32)
             .filter(|&i| boxes[i as usize].hit_interval(ray, inv, f32::INFINITY).is_some())
             .collect();
         let (bvh, order) = Bvh::build(boxes);
+        let wide = super::super::WideBvh::from_binary(&bvh);
         let mut found = Vec::new();
-        bvh.traverse(ray, &mut { f32::INFINITY }, |prim, _| {
+        wide.traverse(ray, &mut { f32::INFINITY }, |prim, _| {
             let original = order[prim as usize];
             if boxes[original as usize].hit_interval(ray, inv, f32::INFINITY).is_some() {
                 found.push(original);
