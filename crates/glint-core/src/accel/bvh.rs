@@ -9,8 +9,7 @@ use glam::Vec3;
 use crate::math::Aabb;
 
 /// One node, 32 bytes. An interior node's two children are stored side by side at
-/// `index` and `index + 1` (one 64-byte fetch tests both); a leaf's `index` is its first
-/// primitive. Node 0 is the root and node 1 is unused, so sibling pairs start at even
+/// `index` and `index + 1`; a leaf's `index` is its first primitive. Node 0 is the root and node 1 is unused, so sibling pairs start at even
 /// indices.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
