@@ -8,8 +8,10 @@
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
+mod physical;
 mod solid;
 
+pub use physical::{BsdfDesc, ColorParam, EnvironmentDesc, IntegratorDesc, PathDesc, SamplerKind, ScalarParam};
 pub use solid::{BlobComponentDesc, BlobComponentShape, BlobDesc, ImplicitDesc, SetOp, SolidDesc};
 
 pub use crate::sampling::{FilterKind, SamplePattern};
@@ -73,6 +75,13 @@ pub struct RenderSettings {
     pub adaptive: Option<AdaptiveDesc>,
     /// Seeds every random choice; the same seed gives the same image.
     pub seed: u32,
+    /// Which light-transport algorithm renders the image.
+    #[serde(default)]
+    pub integrator: IntegratorDesc,
+    /// Samples per pixel in total, overriding `samples_per_axis`² when set (a count that
+    /// is not a square takes Sobol positions).
+    #[serde(default)]
+    pub spp: Option<u32>,
 }
 
 /// A reconstruction filter and its radius in pixels.
@@ -150,6 +159,8 @@ impl Default for RenderSettings {
             filter: FilterDesc::default(),
             adaptive: None,
             seed: 0,
+            integrator: IntegratorDesc::Whitted,
+            spp: None,
         }
     }
 }
@@ -197,6 +208,9 @@ pub enum LightDesc {
     /// A light with extent, sampled at `samples`×`samples` stratified points so its
     /// shadows have penumbrae; `color` is its total intensity, shared by the samples.
     Area { shape: AreaShape, color: Vec3, attenuation: Vec3, samples: u32 },
+    /// Light from infinitely far away in every direction (path tracing; the Whitted
+    /// integrator shows it where rays leave the scene).
+    Environment(EnvironmentDesc),
 }
 
 /// The emitting shape of an area light (it emits from both sides, like a cluster of
@@ -240,6 +254,23 @@ pub struct MaterialDesc {
     pub blend: f32,
     /// How many times the texture repeats across the surface's uv square.
     pub texture_repeat: Vec2,
+    /// The physically based scattering the path tracer uses; `None` derives one from
+    /// the Phong coefficients above (docs/path-tracing.md gives the mapping).
+    #[serde(default)]
+    pub bsdf: Option<BsdfDesc>,
+    /// Radiance emitted from the front (outward-normal) side: any shape with this
+    /// material is an area light for the path tracer.
+    #[serde(default)]
+    pub emission: Vec3,
+    /// Whether the back of a surface scatters like its front. One-sided surfaces are
+    /// black from behind, as Mitsuba's BSDFs are without `twosided`; dielectrics are
+    /// always two-sided.
+    #[serde(default = "yes")]
+    pub two_sided: bool,
+}
+
+fn yes() -> bool {
+    true
 }
 
 impl Default for MaterialDesc {
@@ -260,6 +291,9 @@ impl Default for MaterialDesc {
             texture: None,
             blend: 1.0,
             texture_repeat: Vec2::ONE,
+            bsdf: None,
+            emission: Vec3::ZERO,
+            two_sided: true,
         }
     }
 }
@@ -304,6 +338,9 @@ pub enum ShapeDesc {
     Plane,
     /// The disk of radius 1 in the plane y = 0, facing +y.
     Disk,
+    /// The square [−1, 1]² in the plane y = 0, facing +y (Mitsuba's `rectangle`, turned
+    /// to glint's up axis).
+    Rectangle,
     /// Ring of major radius 1 around the y axis with tube radius `minor_radius`.
     Torus { minor_radius: f32 },
     /// The triangle mesh [`SceneDesc::meshes`]`[index]`.

@@ -55,7 +55,9 @@ pub struct Incidence {
 }
 
 impl Light {
-    pub fn compile(desc: &LightDesc) -> Self {
+    /// The record of a light the Whitted integrator samples; `None` for an environment,
+    /// which it sees only where rays leave the scene.
+    pub fn compile(desc: &LightDesc) -> Option<Self> {
         let base = Self {
             kind: LightKind::Point,
             color: Vec3::ZERO,
@@ -69,7 +71,8 @@ impl Light {
             radius: 0.0,
             samples_per_axis: 1,
         };
-        match *desc {
+        Some(match *desc {
+            LightDesc::Environment(_) => return None,
             LightDesc::Point { position, color, attenuation } => Self { position, color, attenuation, ..base },
             LightDesc::Directional { direction, color } => {
                 Self { kind: LightKind::Directional, direction: direction.normalize(), color, ..base }
@@ -101,7 +104,7 @@ impl Light {
                     }
                 }
             }
-        }
+        })
     }
 
     /// How many samples one shading point takes of this light.
@@ -190,7 +193,8 @@ mod tests {
             position: Vec3::ZERO,
             color: Vec3::ONE,
             attenuation: Vec3::new(0.5, 0.25, 0.125),
-        });
+        })
+        .unwrap();
         let at = |d: f32| light.incidence(Vec3::new(d, 0.0, 0.0)).radiance.x;
         assert_eq!(at(0.1), 1.0); // 1/(0.5+0.025+0.00125) > 1 → capped
         assert!((at(4.0) - 1.0 / (0.5 + 1.0 + 2.0)).abs() < 1e-6);
@@ -208,7 +212,8 @@ mod tests {
             color: Vec3::ONE,
             attenuation: Vec3::X,
             samples: 4,
-        });
+        })
+        .unwrap();
         assert_eq!(light.sample_count(), 16);
         let samples: Vec<Incidence> = (0..16).map(|i| light.sample(Vec3::ZERO, i, Vec2::splat(0.5))).collect();
         let total: Vec3 = samples.iter().map(|s| s.radiance).sum();
@@ -238,7 +243,8 @@ mod tests {
             attenuation: Vec3::X,
             angle_degrees: 30.0,
             penumbra_degrees: 10.0,
-        });
+        })
+        .unwrap();
         let at_angle = |deg: f32| {
             let a = deg.to_radians();
             light.incidence(Vec3::new(a.sin(), -a.cos(), 0.0)).radiance.x

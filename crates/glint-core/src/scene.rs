@@ -149,7 +149,7 @@ pub fn compile(desc: &SceneDesc) -> Result<RenderScene, CompileError> {
             Ok(mat)
         })
         .collect::<Result<_, _>>()?;
-    let lights = desc.lights.iter().map(Light::compile).collect::<Vec<_>>();
+    let lights = desc.lights.iter().filter_map(Light::compile).collect::<Vec<_>>();
     if lights.iter().any(|l| {
         !(l.color.is_finite() && l.position.is_finite() && l.direction.is_finite() && l.attenuation.is_finite())
     }) {
@@ -383,6 +383,7 @@ fn shape_record(shape: &ShapeDesc, origin: &str) -> Result<Shape, CompileError> 
         ShapeDesc::Cone => Shape::new(ShapeKind::Cone),
         ShapeDesc::Plane => Shape::new(ShapeKind::Plane),
         ShapeDesc::Disk => Shape::new(ShapeKind::Disk),
+        ShapeDesc::Rectangle => Shape::new(ShapeKind::Rectangle),
         ShapeDesc::Torus { minor_radius } => {
             if !(minor_radius > 0.0 && minor_radius < 1.0) {
                 return Err(invalid(origin, format!("torus minor radius {minor_radius} must be in (0, 1)")));

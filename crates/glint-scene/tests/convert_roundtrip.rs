@@ -117,6 +117,8 @@ fn everything(texture: &Path) -> SceneDesc {
         filter: FilterDesc { kind: FilterKind::Gaussian, radius: 1.25 },
         adaptive: Some(AdaptiveDesc { min_samples: 2, max_samples: 32, threshold: 0.005 }),
         seed: 77,
+        integrator: glint_core::desc::IntegratorDesc::Whitted,
+        spp: None,
     };
     let camera = CameraDesc {
         eye: Vec3::new(0.3, 2.0, 9.5),
@@ -186,6 +188,9 @@ fn everything(texture: &Path) -> SceneDesc {
             texture: Some(1),
             blend: 0.4,
             texture_repeat: Vec2::new(2.0, 0.5),
+            bsdf: None,
+            emission: Vec3::ZERO,
+            two_sided: true,
         },
         MaterialDesc { name: "plain".into(), texture: Some(0), diffuse: Vec3::splat(0.5), ..MaterialDesc::default() },
         MaterialDesc { name: String::new(), ..MaterialDesc::default() },

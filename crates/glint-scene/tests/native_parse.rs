@@ -218,6 +218,7 @@ fn material_with_every_property() {
             texture: Some(1),
             blend: 0.75,
             texture_repeat: Vec2::new(4.0, 2.0),
+            ..MaterialDesc::default()
         }]
     );
 }

@@ -15,6 +15,7 @@ mod disk;
 pub mod implicit;
 mod plane;
 pub mod quadric;
+mod rectangle;
 mod span;
 mod sphere;
 pub mod superellipsoid;
@@ -26,6 +27,7 @@ pub use cube::Cube;
 pub use cylinder::Cylinder;
 pub use disk::Disk;
 pub use plane::Plane;
+pub use rectangle::Rectangle;
 pub use sphere::Sphere;
 pub use torus::Torus;
 
@@ -93,6 +95,8 @@ pub enum ShapeKind {
     Implicit = 10,
     Quadric = 11,
     Superellipsoid = 12,
+    /// The square of [`Rectangle`].
+    Rectangle = 13,
 }
 
 /// A primitive as flat data: its kind and its one shape parameter (the torus's tube
@@ -160,6 +164,10 @@ macro_rules! dispatch {
             }
             ShapeKind::Disk => {
                 let $prim = Disk;
+                $body
+            }
+            ShapeKind::Rectangle => {
+                let $prim = Rectangle;
                 $body
             }
             ShapeKind::Torus => {

@@ -121,7 +121,7 @@ impl Shape {
     /// Whether the kind has an inside and can be part of a CSG tree (a plane counts, as
     /// its lower half-space).
     pub fn is_solid(&self) -> bool {
-        !matches!(self.kind, ShapeKind::Disk | ShapeKind::Mesh)
+        !matches!(self.kind, ShapeKind::Disk | ShapeKind::Rectangle | ShapeKind::Mesh)
     }
 
     /// [`Solid::spans`] for every solid kind (see [`Shape::is_solid`]); other kinds add

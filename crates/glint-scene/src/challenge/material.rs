@@ -392,6 +392,7 @@ fn shape_name(shape: ShapeDesc) -> &'static str {
         ShapeDesc::Cone => "cone",
         ShapeDesc::Plane => "plane",
         ShapeDesc::Disk => "disk",
+        ShapeDesc::Rectangle => "rectangle",
         ShapeDesc::Torus { .. } => "torus",
         ShapeDesc::Mesh { .. } => "mesh",
     }

@@ -336,6 +336,7 @@ impl Builder<'_> {
             // into the diffuse colour this is the course's `(1 − b)·k_d·O_d + b·T`.
             blend: if texture.is_some() { m.blend.clamp(0.0, 1.0) } else { 0.0 },
             texture_repeat: texture.map_or(Vec2::ONE, |(_, repeat)| repeat),
+            ..MaterialDesc::default()
         };
         let key = material_key(&desc);
         if let Some(&index) = self.material_index.get(&key) {

@@ -319,6 +319,7 @@ impl Writer {
 
     fn light(&mut self, light: &LightDesc) -> Result<(), WriteError> {
         let line = match *light {
+            LightDesc::Environment(_) => return fail("the .glint format cannot hold environment lights yet"),
             LightDesc::Point { position, color, attenuation } => format!(
                 "light point {{ position {} color {} attenuation {} }}",
                 vec3(position, "light position")?,
@@ -520,6 +521,7 @@ impl Writer {
                     ShapeDesc::Cone => ("cone".into(), None),
                     ShapeDesc::Plane => ("plane".into(), None),
                     ShapeDesc::Disk => ("disk".into(), None),
+                    ShapeDesc::Rectangle => ("rectangle".into(), None),
                     ShapeDesc::Torus { minor_radius } => {
                         ("torus".into(), Some(format!("minor_radius {}", num(minor_radius, "torus minor_radius")?)))
                     }
