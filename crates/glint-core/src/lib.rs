@@ -5,6 +5,7 @@
 //! touches files and never prints; progress and cancellation go through callbacks.
 
 pub mod accel;
+pub mod bsdf;
 pub mod camera;
 pub mod desc;
 pub mod film;

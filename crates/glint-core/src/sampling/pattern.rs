@@ -96,7 +96,7 @@ pub fn sobol_2d(index: u32) -> (u32, u32) {
 /// Nested uniform (Owen) scrambling by hashing, after Burley, "Practical Hash-based
 /// Owen Scrambling" (JCGT 2020): a Laine–Karras style permutation on the bit-reversed
 /// value, where each output bit depends only on the bits above it.
-fn owen_scramble(x: u32, seed: u32) -> u32 {
+pub(crate) fn owen_scramble(x: u32, seed: u32) -> u32 {
     let mut v = x.reverse_bits();
     v = v.wrapping_add(seed);
     v ^= v.wrapping_mul(0x6c50_b47c);

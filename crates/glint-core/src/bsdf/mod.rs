@@ -1,0 +1,531 @@
+//! Physically based scattering (BSDFs) for the path tracer.
+//!
+//! A closed set of kinds in one flat record ([`Bsdf`]) per material, dispatched by
+//! `match`, so the same data can be uploaded to a GPU. At a hit the record's textured
+//! parameters are resolved once into a [`SurfaceBsdf`], which evaluates, samples and
+//! gives densities in the local shading frame (z = the outward normal).
+//!
+//! Conventions (as PBRT's): `wo` points toward the viewer, `wi` toward the light;
+//! `f(wo, wi)` excludes the cosine; sampled weights are `f·|cos θ_i| / pdf`.
+
+pub mod fresnel;
+pub mod lobes;
+pub mod microfacet;
+mod phong;
+#[cfg(test)]
+mod tests;
+
+use bytemuck::NoUninit;
+use glam::{Vec2, Vec3};
+use std::f32::consts::FRAC_1_PI;
+
+use crate::desc::{BsdfDesc, ColorParam, MaterialDesc, ScalarParam};
+use crate::material::NO_TEXTURE;
+use lobes::{cosine_hemisphere, cosine_hemisphere_pdf, mirror};
+use microfacet::Ggx;
+
+/// What a [`Bsdf`] record is.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, NoUninit)]
+pub enum BsdfKind {
+    Diffuse = 0,
+    Conductor = 1,
+    Dielectric = 2,
+    ThinDielectric = 3,
+    Plastic = 4,
+    /// The lecture's Phong material read physically: see [`phong`].
+    Phong = 5,
+}
+
+/// Record flag: the back side scatters like the front.
+pub const TWO_SIDED: u32 = 1;
+/// Record flag (plastic): internal scattering saturates colours (Mitsuba's `nonlinear`).
+pub const NONLINEAR: u32 = 2;
+
+/// A compiled BSDF with the emission of its material, as flat data.
+///
+/// `color` is the main colour (diffuse reflectance, a conductor's specular tint, a
+/// plastic's base); with a texture it is `lerp(color, texture_scale·T(uv), blend)`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, NoUninit)]
+pub struct Bsdf {
+    pub kind: BsdfKind,
+    pub flags: u32,
+    pub color: Vec3,
+    pub color_texture: u32,
+    pub texture_scale: Vec3,
+    pub blend: f32,
+    pub uv_repeat: Vec2,
+    /// Dielectric/plastic reflectance tint; Phong: the mirror weight `k_s·O_r`.
+    pub specular: Vec3,
+    /// Dielectric transmittance tint; Phong: the transmitted weight `k_t·O_t`.
+    pub transmittance: Vec3,
+    /// Conductor: the real part of the index per channel. Dielectrics and plastic:
+    /// `eta.x` = inside / outside index. Phong: `eta.x` = its ior.
+    pub eta: Vec3,
+    /// Conductor: the imaginary part (absorption) per channel.
+    pub k: Vec3,
+    /// GGX roughness (0 = smooth); times the texture's mean channel when textured.
+    pub alpha: f32,
+    pub alpha_texture: u32,
+    /// Phong: the glossy weight `k_s·O_s` and its exponent `n`.
+    pub glossy: Vec3,
+    pub exponent: f32,
+    /// Plastic: the internal diffuse Fresnel reflectance of the coat.
+    pub internal_reflectance: f32,
+    /// Radiance the surface emits from its front side (area light).
+    pub emission: Vec3,
+}
+
+impl Bsdf {
+    /// The physically based reading of a material: its `bsdf` when given, else the
+    /// Phong mapping of [`phong::from_phong`].
+    pub fn compile(desc: &MaterialDesc) -> Self {
+        let base = Self {
+            kind: BsdfKind::Diffuse,
+            flags: if desc.two_sided { TWO_SIDED } else { 0 },
+            color: Vec3::ZERO,
+            color_texture: NO_TEXTURE,
+            texture_scale: Vec3::ONE,
+            blend: 0.0,
+            uv_repeat: Vec2::ONE,
+            specular: Vec3::ZERO,
+            transmittance: Vec3::ZERO,
+            eta: Vec3::ONE,
+            k: Vec3::ZERO,
+            alpha: 0.0,
+            alpha_texture: NO_TEXTURE,
+            glossy: Vec3::ZERO,
+            exponent: 1.0,
+            internal_reflectance: 0.0,
+            emission: desc.emission,
+        };
+        let Some(bsdf) = desc.bsdf else {
+            return phong::from_phong(desc, base);
+        };
+        let with_color = |b: Self, c: ColorParam| Self {
+            color: c.value,
+            color_texture: tex(c.texture),
+            texture_scale: c.value,
+            blend: if c.texture.is_some() { 1.0 } else { 0.0 },
+            ..b
+        };
+        let with_alpha = |b: Self, a: ScalarParam| Self { alpha: a.value, alpha_texture: tex(a.texture), ..b };
+        match bsdf {
+            BsdfDesc::Diffuse { reflectance } => with_color(base, reflectance),
+            BsdfDesc::Conductor { eta, k, specular, alpha } => {
+                with_alpha(with_color(Self { kind: BsdfKind::Conductor, eta, k, ..base }, specular), alpha)
+            }
+            BsdfDesc::Dielectric { int_ior, ext_ior, reflectance, transmittance, alpha } => with_alpha(
+                Self {
+                    kind: BsdfKind::Dielectric,
+                    flags: base.flags | TWO_SIDED,
+                    eta: Vec3::splat(int_ior / ext_ior),
+                    specular: reflectance,
+                    transmittance,
+                    ..base
+                },
+                alpha,
+            ),
+            BsdfDesc::ThinDielectric { int_ior, ext_ior, reflectance, transmittance } => Self {
+                kind: BsdfKind::ThinDielectric,
+                flags: base.flags | TWO_SIDED,
+                eta: Vec3::splat(int_ior / ext_ior),
+                specular: reflectance,
+                transmittance,
+                ..base
+            },
+            BsdfDesc::Plastic { diffuse, int_ior, ext_ior, specular, alpha, nonlinear } => {
+                let eta = int_ior / ext_ior;
+                let plastic = Self {
+                    kind: BsdfKind::Plastic,
+                    flags: base.flags | if nonlinear { NONLINEAR } else { 0 },
+                    eta: Vec3::splat(eta),
+                    specular,
+                    internal_reflectance: fresnel::diffuse_reflectance(1.0 / eta),
+                    ..base
+                };
+                with_alpha(with_color(plastic, diffuse), alpha)
+            }
+        }
+    }
+
+    /// Whether the surface emits light.
+    pub fn is_emissive(&self) -> bool {
+        self.emission.max_element() > 0.0
+    }
+
+    /// The parameters at texture coordinates `uv`; `texture(index, uv)` samples the
+    /// scene's textures.
+    pub fn at(&self, uv: Vec2, texture: impl Fn(u32, Vec2) -> Vec3) -> SurfaceBsdf {
+        let mut color = self.color;
+        if self.color_texture != NO_TEXTURE {
+            let t = texture(self.color_texture, uv * self.uv_repeat);
+            color = color.lerp(self.texture_scale * t, self.blend);
+        }
+        let mut alpha = self.alpha;
+        if self.alpha_texture != NO_TEXTURE {
+            alpha *= texture(self.alpha_texture, uv * self.uv_repeat).element_sum() / 3.0;
+        }
+        SurfaceBsdf { record: *self, color, alpha: if alpha < Ggx::MIN_ALPHA { 0.0 } else { alpha } }
+    }
+}
+
+fn tex(index: Option<usize>) -> u32 {
+    index.map_or(NO_TEXTURE, |i| i as u32)
+}
+
+/// A direction chosen by [`SurfaceBsdf::sample`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BsdfSample {
+    /// Local direction toward the light.
+    pub wi: Vec3,
+    /// `f·|cos θ_i| / pdf`: the factor the path's throughput takes.
+    pub weight: Vec3,
+    /// Solid-angle density of `wi` (for a delta lobe, the probability of the lobe).
+    pub pdf: f32,
+    /// The lobe chosen is a delta (mirror or smooth refraction): no MIS with lights.
+    pub delta: bool,
+    /// Relative index across the interface when the ray was transmitted, else 1.
+    pub eta: f32,
+}
+
+/// A BSDF with its textured parameters resolved at one point.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceBsdf {
+    pub record: Bsdf,
+    pub color: Vec3,
+    pub alpha: f32,
+}
+
+impl SurfaceBsdf {
+    fn two_sided(&self) -> bool {
+        self.record.flags & TWO_SIDED != 0
+    }
+
+    /// Whether any lobe is smooth enough to take light samples (not only deltas).
+    pub fn has_non_delta(&self) -> bool {
+        match self.record.kind {
+            BsdfKind::Diffuse | BsdfKind::Plastic => true,
+            BsdfKind::Conductor | BsdfKind::Dielectric => self.alpha > 0.0,
+            BsdfKind::ThinDielectric => false,
+            BsdfKind::Phong => phong::has_non_delta(self),
+        }
+    }
+
+    /// The colour a denoiser would call albedo: the surface's main reflectance.
+    pub fn albedo(&self) -> Vec3 {
+        match self.record.kind {
+            BsdfKind::Dielectric | BsdfKind::ThinDielectric => self.record.transmittance,
+            BsdfKind::Conductor => self.color * fresnel::conductor(1.0, self.record.eta, self.record.k),
+            _ => self.color,
+        }
+    }
+
+    /// Reflection-only kinds see the world from their front; a two-sided one is mirrored
+    /// to it, a one-sided one is black from behind. `None`: nothing scatters.
+    fn reflection_side(&self, wo: Vec3) -> Option<f32> {
+        if wo.z > 0.0 {
+            Some(1.0)
+        } else if wo.z < 0.0 && self.two_sided() {
+            Some(-1.0)
+        } else {
+            None
+        }
+    }
+
+    /// `f(wo, wi)` of the non-delta lobes.
+    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        match self.record.kind {
+            BsdfKind::Dielectric => self.rough_dielectric(wo, wi).0,
+            BsdfKind::ThinDielectric => Vec3::ZERO,
+            BsdfKind::Phong => phong::eval(self, wo, wi),
+            _ => {
+                let Some(side) = self.reflection_side(wo) else { return Vec3::ZERO };
+                let (wo, wi) = (wo * Vec3::new(1.0, 1.0, side), wi * Vec3::new(1.0, 1.0, side));
+                if wi.z <= 0.0 {
+                    return Vec3::ZERO;
+                }
+                self.eval_front(wo, wi)
+            }
+        }
+    }
+
+    /// Density with which [`SurfaceBsdf::sample`] picks `wi` through a non-delta lobe.
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        match self.record.kind {
+            BsdfKind::Dielectric => self.rough_dielectric(wo, wi).1,
+            BsdfKind::ThinDielectric => 0.0,
+            BsdfKind::Phong => phong::pdf(self, wo, wi),
+            _ => {
+                let Some(side) = self.reflection_side(wo) else { return 0.0 };
+                let (wo, wi) = (wo * Vec3::new(1.0, 1.0, side), wi * Vec3::new(1.0, 1.0, side));
+                if wi.z <= 0.0 {
+                    return 0.0;
+                }
+                self.pdf_front(wo, wi)
+            }
+        }
+    }
+
+    /// A direction `wi` for `wo`, from `u_lobe` (which lobe) and `u` (where in it).
+    pub fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        match self.record.kind {
+            BsdfKind::Dielectric => self.sample_dielectric(wo, u_lobe, u),
+            BsdfKind::ThinDielectric => self.sample_thin(wo, u_lobe),
+            BsdfKind::Phong => phong::sample(self, wo, u_lobe, u),
+            _ => {
+                let side = self.reflection_side(wo)?;
+                let flip = Vec3::new(1.0, 1.0, side);
+                let mut s = self.sample_front(wo * flip, u_lobe, u)?;
+                s.wi *= flip;
+                Some(s)
+            }
+        }
+    }
+
+    // ---- reflection-only kinds, with wo and wi on the +z side ----
+
+    fn eval_front(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        let r = &self.record;
+        match r.kind {
+            BsdfKind::Diffuse => self.color * FRAC_1_PI,
+            BsdfKind::Conductor => {
+                if self.alpha == 0.0 {
+                    return Vec3::ZERO;
+                }
+                let m = (wo + wi).normalize();
+                let ggx = Ggx { alpha: self.alpha };
+                let f = fresnel::conductor(wo.dot(m), r.eta, r.k);
+                self.color * f * (ggx.d(m) * ggx.g(wo, wi, m) / (4.0 * wo.z * wi.z))
+            }
+            BsdfKind::Plastic => {
+                let eta = r.eta.x;
+                let mut f = self.plastic_diffuse(wo, wi);
+                if self.alpha > 0.0 {
+                    let m = (wo + wi).normalize();
+                    let ggx = Ggx { alpha: self.alpha };
+                    let fr = fresnel::dielectric(wo.dot(m), eta).0;
+                    f += r.specular * (fr * ggx.d(m) * ggx.g(wo, wi, m) / (4.0 * wo.z * wi.z));
+                }
+                f
+            }
+            _ => Vec3::ZERO,
+        }
+    }
+
+    fn pdf_front(&self, wo: Vec3, wi: Vec3) -> f32 {
+        match self.record.kind {
+            BsdfKind::Diffuse => cosine_hemisphere_pdf(wi),
+            BsdfKind::Conductor => {
+                if self.alpha == 0.0 {
+                    return 0.0;
+                }
+                let m = (wo + wi).normalize();
+                Ggx { alpha: self.alpha }.visible_pdf(wo, m) / (4.0 * wo.dot(m))
+            }
+            BsdfKind::Plastic => {
+                let p_specular = self.plastic_specular_probability(wo);
+                let mut pdf = (1.0 - p_specular) * cosine_hemisphere_pdf(wi);
+                if self.alpha > 0.0 {
+                    let m = (wo + wi).normalize();
+                    pdf += p_specular * Ggx { alpha: self.alpha }.visible_pdf(wo, m) / (4.0 * wo.dot(m));
+                }
+                pdf
+            }
+            _ => 0.0,
+        }
+    }
+
+    fn sample_front(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        let r = &self.record;
+        match r.kind {
+            BsdfKind::Diffuse => {
+                let wi = cosine_hemisphere(u);
+                (wi.z > 0.0).then_some(BsdfSample {
+                    wi,
+                    weight: self.color,
+                    pdf: cosine_hemisphere_pdf(wi),
+                    delta: false,
+                    eta: 1.0,
+                })
+            }
+            BsdfKind::Conductor if self.alpha == 0.0 => {
+                let f = fresnel::conductor(wo.z, r.eta, r.k);
+                Some(BsdfSample { wi: mirror(wo), weight: self.color * f, pdf: 1.0, delta: true, eta: 1.0 })
+            }
+            BsdfKind::Conductor => {
+                let ggx = Ggx { alpha: self.alpha };
+                let m = ggx.sample_visible(wo, u);
+                let wi = lobes::reflect(wo, m);
+                if wi.z <= 0.0 {
+                    return None;
+                }
+                let f = fresnel::conductor(wo.dot(m), r.eta, r.k);
+                let pdf = ggx.visible_pdf(wo, m) / (4.0 * wo.dot(m));
+                // f·cos/pdf with visible-normal sampling reduces to F·G1(wi).
+                let weight = self.color * f * ggx.g1(wi, m);
+                Some(BsdfSample { wi, weight, pdf, delta: false, eta: 1.0 })
+            }
+            BsdfKind::Plastic => self.sample_plastic(wo, u_lobe, u),
+            _ => None,
+        }
+    }
+
+    // ---- plastic: a diffuse base under a dielectric coat (Mitsuba's plastic) ----
+
+    /// How often the coat's specular lobe is sampled: its Fresnel share weighted by the
+    /// specular and diffuse colours' means.
+    fn plastic_specular_probability(&self, wo: Vec3) -> f32 {
+        let s = self.record.specular.element_sum() / 3.0;
+        let d = self.color.element_sum() / 3.0;
+        let weight = if s + d > 0.0 { s / (s + d) } else { 0.5 };
+        let f = fresnel::dielectric(wo.z, self.record.eta.x).0;
+        let (ps, pd) = (f * weight, (1.0 - f) * (1.0 - weight));
+        if ps + pd > 0.0 { ps / (ps + pd) } else { 0.0 }
+    }
+
+    /// Light refracted into the coat, scattered by the base (with the inter-reflections
+    /// under the coat summed as a geometric series) and refracted out.
+    fn plastic_diffuse(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        let r = &self.record;
+        let eta = r.eta.x;
+        let (fo, fi) = (fresnel::dielectric(wo.z, eta).0, fresnel::dielectric(wi.z, eta).0);
+        let denominator = if r.flags & NONLINEAR != 0 {
+            Vec3::ONE - self.color * r.internal_reflectance
+        } else {
+            Vec3::splat(1.0 - r.internal_reflectance)
+        };
+        self.color / denominator * ((1.0 - fo) * (1.0 - fi) * FRAC_1_PI / (eta * eta))
+    }
+
+    fn sample_plastic(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        let p_specular = self.plastic_specular_probability(wo);
+        if self.alpha == 0.0 {
+            if u_lobe < p_specular {
+                let f = fresnel::dielectric(wo.z, self.record.eta.x).0;
+                let weight = self.record.specular * (f / p_specular);
+                return Some(BsdfSample { wi: mirror(wo), weight, pdf: p_specular, delta: true, eta: 1.0 });
+            }
+            let wi = cosine_hemisphere(u);
+            let pdf = (1.0 - p_specular) * cosine_hemisphere_pdf(wi);
+            if wi.z <= 0.0 || pdf <= 0.0 {
+                return None;
+            }
+            let weight = self.plastic_diffuse(wo, wi) * (wi.z / pdf);
+            return Some(BsdfSample { wi, weight, pdf, delta: false, eta: 1.0 });
+        }
+        let wi = if u_lobe < p_specular {
+            lobes::reflect(wo, Ggx { alpha: self.alpha }.sample_visible(wo, u))
+        } else {
+            cosine_hemisphere(u)
+        };
+        self.weighed(wo, wi)
+    }
+
+    /// A sample of `wi` weighed by the full `f` and `pdf` (for mixtures of non-delta
+    /// lobes, where any lobe could have produced `wi`).
+    fn weighed(&self, wo: Vec3, wi: Vec3) -> Option<BsdfSample> {
+        if wi.z * wo.z <= 0.0 && self.record.kind != BsdfKind::Dielectric {
+            return None;
+        }
+        let pdf = self.pdf(wo, wi);
+        if !(pdf > 0.0) {
+            return None;
+        }
+        let weight = self.eval(wo, wi) * (wi.z.abs() / pdf);
+        Some(BsdfSample { wi, weight, pdf, delta: false, eta: 1.0 })
+    }
+
+    // ---- dielectrics ----
+
+    fn sample_thin(&self, wo: Vec3, u_lobe: f32) -> Option<BsdfSample> {
+        let r = &self.record;
+        let mut reflect = fresnel::dielectric(wo.z.abs(), r.eta.x).0;
+        if reflect < 1.0 {
+            // Both faces' inter-reflections: R + T²R/(1 − R²).
+            reflect += (1.0 - reflect) * (1.0 - reflect) * reflect / (1.0 - reflect * reflect);
+        }
+        if u_lobe < reflect {
+            Some(BsdfSample { wi: mirror(wo), weight: r.specular, pdf: reflect, delta: true, eta: 1.0 })
+        } else {
+            Some(BsdfSample { wi: -wo, weight: r.transmittance, pdf: 1.0 - reflect, delta: true, eta: 1.0 })
+        }
+    }
+
+    fn sample_dielectric(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        let r = &self.record;
+        let eta = r.eta.x;
+        if self.alpha == 0.0 {
+            let (f, cos_t, eta_it, eta_ti) = fresnel::dielectric(wo.z, eta);
+            if u_lobe < f {
+                return Some(BsdfSample { wi: mirror(wo), weight: r.specular, pdf: f, delta: true, eta: 1.0 });
+            }
+            let wi = lobes::refract(wo, Vec3::Z, cos_t, eta_ti);
+            // Radiance is compressed into a smaller solid angle inside: × (η_i/η_t)².
+            let weight = r.transmittance * (eta_ti * eta_ti);
+            return Some(BsdfSample { wi, weight, pdf: 1.0 - f, delta: true, eta: eta_it });
+        }
+        let ggx = Ggx { alpha: self.alpha };
+        // A normal (z > 0) visible from wo's side: from inside, fresnel sees wo·m < 0.
+        let m = ggx.sample_visible(wo * wo.z.signum(), u);
+        let (f, cos_t, eta_it, eta_ti) = fresnel::dielectric(wo.dot(m), eta);
+        let (wi, transmitted) =
+            if u_lobe < f { (lobes::reflect(wo, m), false) } else { (lobes::refract(wo, m, cos_t, eta_ti), true) };
+        if transmitted == (wi.z * wo.z > 0.0) || wi.z == 0.0 {
+            return None;
+        }
+        let (value, pdf) = self.rough_dielectric(wo, wi);
+        if !(pdf > 0.0) {
+            return None;
+        }
+        let weight = value * (wi.z.abs() / pdf);
+        Some(BsdfSample { wi, weight, pdf, delta: false, eta: if transmitted { eta_it } else { 1.0 } })
+    }
+
+    /// `f` and pdf of the rough dielectric (Walter et al. 2007, with visible-normal
+    /// sampling; the generalized half vector as in PBRT 4th ed. §9.7).
+    fn rough_dielectric(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
+        let r = &self.record;
+        if self.alpha == 0.0 || wo.z == 0.0 || wi.z == 0.0 {
+            return (Vec3::ZERO, 0.0);
+        }
+        let eta = r.eta.x;
+        let reflect = wo.z * wi.z > 0.0;
+        let etap = if reflect {
+            1.0
+        } else if wo.z > 0.0 {
+            eta
+        } else {
+            1.0 / eta
+        };
+        let mut m = wi * etap + wo;
+        if m.length_squared() == 0.0 {
+            return (Vec3::ZERO, 0.0);
+        }
+        m = m.normalize();
+        if m.z < 0.0 {
+            m = -m;
+        }
+        // Microfacets seen from behind by either direction contribute nothing.
+        if m.dot(wi) * wi.z < 0.0 || m.dot(wo) * wo.z < 0.0 {
+            return (Vec3::ZERO, 0.0);
+        }
+        let ggx = Ggx { alpha: self.alpha };
+        let f = fresnel::dielectric(wo.dot(m), eta).0;
+        let visible = ggx.g1(wo, m) * wo.dot(m).abs() * ggx.d(m) / wo.z.abs();
+        if reflect {
+            let value = r.specular * (ggx.d(m) * ggx.g(wo, wi, m) * f / (4.0 * wi.z * wo.z).abs());
+            (value, visible / (4.0 * wo.dot(m).abs()) * f)
+        } else {
+            let denom = wi.dot(m) + wo.dot(m) / etap;
+            let denom2 = denom * denom;
+            let value =
+                ggx.d(m) * (1.0 - f) * ggx.g(wo, wi, m) * (wi.dot(m) * wo.dot(m) / (wi.z * wo.z * denom2)).abs();
+            // Radiance scaling across the interface: ÷ η².
+            let value = r.transmittance * (value / (etap * etap));
+            let dm_dwi = wi.dot(m).abs() / denom2;
+            (value, visible * dm_dwi * (1.0 - f))
+        }
+    }
+}

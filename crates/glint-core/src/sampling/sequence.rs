@@ -1,0 +1,150 @@
+//! The path sampler: one stream of numbers in [0, 1) that serves every dimension of a
+//! path (pixel position, lens, time, light choice, BSDF lobe and direction, roulette).
+//!
+//! Everything here is 32-bit integer arithmetic, so a GPU shader draws exactly the same
+//! numbers: a sample is a pure function of (pixel, sample index, dimension, seed).
+
+use glam::Vec2;
+
+use super::pattern::{owen_scramble, sobol_2d};
+use crate::desc::SamplerKind;
+
+/// A 32-bit integer hash with good avalanche (Wellons' "lowbias32", bias ≈ 0.17):
+/// two xor-shift-multiply rounds.
+#[inline]
+pub fn mix32(mut x: u32) -> u32 {
+    x ^= x >> 16;
+    x = x.wrapping_mul(0x7feb_352d);
+    x ^= x >> 15;
+    x = x.wrapping_mul(0x846c_a68b);
+    x ^= x >> 16;
+    x
+}
+
+/// Folds words into one hash, each mixed with the state so far (order matters).
+#[inline]
+pub fn hash32(words: &[u32]) -> u32 {
+    words.iter().fold(0x6a09_e667, |h, &w| mix32(h ^ mix32(w.wrapping_add(0x9e37_79b9))))
+}
+
+/// The top 24 bits as a float in [0, 1): every value exactly representable.
+#[inline]
+pub fn unit_float(bits: u32) -> f32 {
+    (bits >> 8) as f32 * (1.0 / (1u32 << 24) as f32)
+}
+
+/// The numbers of one sample of one pixel, drawn dimension by dimension.
+///
+/// `Sobol` pads 2-D Owen-scrambled Sobol points: each pair of dimensions is the
+/// (0,2)-sequence with its own per-pixel scrambling and its own shuffle of the sample
+/// index (Burley 2020, "Practical Hash-based Owen Scrambling"), so every power-of-two
+/// prefix of the samples is stratified in every pair while pairs stay uncorrelated.
+/// `Independent` hashes (pixel, index, dimension) into each number.
+#[derive(Clone, Copy, Debug)]
+pub struct PathSampler {
+    kind: SamplerKind,
+    /// Hash of the pixel and the seed: decorrelates pixels.
+    pixel_seed: u32,
+    index: u32,
+    dimension: u32,
+}
+
+impl PathSampler {
+    /// The stream of sample `index` of pixel (`px`, `py`).
+    pub fn new(kind: SamplerKind, px: u32, py: u32, index: u32, seed: u32) -> Self {
+        Self { kind, pixel_seed: hash32(&[px, py, seed]), index, dimension: 0 }
+    }
+
+    /// The next dimension, one number.
+    #[inline]
+    pub fn next_1d(&mut self) -> f32 {
+        self.next_2d().x
+    }
+
+    /// The next pair of dimensions, stratified together.
+    #[inline]
+    pub fn next_2d(&mut self) -> Vec2 {
+        let dimension = self.dimension;
+        self.dimension += 1;
+        let seed = hash32(&[self.pixel_seed, dimension]);
+        match self.kind {
+            SamplerKind::Independent => {
+                let h = hash32(&[seed, self.index]);
+                Vec2::new(unit_float(h), unit_float(mix32(h ^ 0x5bd1_e995)))
+            }
+            SamplerKind::Sobol => {
+                let shuffled = owen_scramble(self.index, mix32(seed));
+                let (x, y) = sobol_2d(shuffled);
+                Vec2::new(
+                    unit_float(owen_scramble(x, mix32(seed ^ 0x68bc_21eb))),
+                    unit_float(owen_scramble(y, mix32(seed ^ 0x02e5_be93))),
+                )
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn points(kind: SamplerKind, px: u32, count: u32, skip: u32) -> Vec<Vec2> {
+        (0..count)
+            .map(|i| {
+                let mut s = PathSampler::new(kind, px, 7, i, 3);
+                for _ in 0..skip {
+                    s.next_2d();
+                }
+                s.next_2d()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn every_dimension_pair_of_a_power_of_two_prefix_is_stratified() {
+        for dim in [0, 1, 5, 17] {
+            for px in 0..8 {
+                let p = points(SamplerKind::Sobol, px, 64, dim);
+                // A (0,6,2)-net: one point in each of the 64 cells of every elementary
+                // shape 64×1, 32×2, …, 1×64.
+                for k in 0..=6 {
+                    let (cx, cy) = (1u32 << k, 1u32 << (6 - k));
+                    let mut cells = vec![0; 64];
+                    for q in &p {
+                        let (x, y) = ((q.x * cx as f32) as u32, (q.y * cy as f32) as u32);
+                        cells[(y * cx + x) as usize] += 1;
+                    }
+                    assert!(cells.iter().all(|&c| c == 1), "dim {dim} px {px} shape {cx}x{cy}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn dimensions_and_pixels_are_decorrelated() {
+        // Pairing dimension 0's x with dimension 1's x over 4096 samples must not put
+        // them on a line: check the sample correlation is small.
+        let a = points(SamplerKind::Sobol, 3, 4096, 0);
+        let b = points(SamplerKind::Sobol, 3, 4096, 1);
+        let c = points(SamplerKind::Sobol, 4, 4096, 0);
+        let corr = |u: &[Vec2], v: &[Vec2]| {
+            let n = u.len() as f32;
+            let (mu, mv) = (u.iter().map(|p| p.x).sum::<f32>() / n, v.iter().map(|p| p.x).sum::<f32>() / n);
+            let cov: f32 = u.iter().zip(v).map(|(p, q)| (p.x - mu) * (q.x - mv)).sum::<f32>() / n;
+            cov / (1.0 / 12.0)
+        };
+        // Independent streams: |r| ~ 1/√4096 = 0.016; allow four standard deviations.
+        assert!(corr(&a, &b).abs() < 0.0625, "{}", corr(&a, &b));
+        assert!(corr(&a, &c).abs() < 0.0625, "{}", corr(&a, &c));
+        assert_ne!(a[0], c[0]);
+    }
+
+    #[test]
+    fn independent_numbers_are_uniform_and_deterministic() {
+        let p = points(SamplerKind::Independent, 1, 20_000, 2);
+        let mean = p.iter().map(|q| q.x + q.y).sum::<f32>() / (2.0 * p.len() as f32);
+        assert!((mean - 0.5).abs() < 0.01, "{mean}");
+        assert!(p.iter().all(|q| q.cmpge(Vec2::ZERO).all() && q.cmplt(Vec2::ONE).all()));
+        assert_eq!(p, points(SamplerKind::Independent, 1, 20_000, 2));
+    }
+}
