@@ -29,7 +29,7 @@ OUT = os.path.join(HERE, "assets")
 SUN_ELEVATION = math.radians(35.0)
 SUN_AZIMUTH = math.radians(-40.0)  # measured in the x-z plane, see sun_direction()
 SUN_SIGMA = math.radians(2.5)  # angular standard deviation of the Gaussian blob
-SUN_PEAK = np.array([220.0, 200.0, 170.0])
+SUN_PEAK = np.array([130.0, 118.0, 100.0])
 
 
 def sun_direction():
@@ -50,11 +50,11 @@ def envmap(width=256, height=128):
         axis=-1,
     )
     up = d[..., 1:2]
-    horizon = np.array([0.95, 0.95, 1.0])
-    zenith = np.array([0.25, 0.45, 1.0])
+    horizon = np.array([0.6, 0.62, 0.7])
+    zenith = np.array([0.12, 0.25, 0.6])
     t = np.clip(up, 0.0, 1.0) ** 0.6
     sky = (1.0 - t) * horizon + t * zenith
-    ground = np.array([0.30, 0.26, 0.22]) * (0.6 + 0.4 * np.clip(-up, 0.0, 1.0))
+    ground = np.array([0.2, 0.17, 0.14]) * (0.6 + 0.4 * np.clip(-up, 0.0, 1.0))
     img = np.where(up >= 0.0, sky, ground)
     cos_angle = np.clip(d @ sun_direction(), -1.0, 1.0)
     angle = np.arccos(cos_angle)[..., None]

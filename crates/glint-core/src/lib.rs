@@ -8,6 +8,7 @@ pub mod accel;
 pub mod bsdf;
 pub mod camera;
 pub mod desc;
+pub mod emitter;
 pub mod film;
 pub mod integrator;
 pub mod light;

@@ -11,10 +11,11 @@ use rayon::prelude::*;
 
 use crate::accel::PACKET;
 use crate::desc::AdaptiveDesc;
+use crate::desc::IntegratorDesc;
 use crate::film::{FilmTile, Image, linear_to_srgb};
-use crate::integrator::{Counters, TraceContext, whitted};
+use crate::integrator::{Counters, TraceContext, path, whitted};
 use crate::math::Ray;
-use crate::sampling::{PixelSampler, Rng, SamplePattern, hash};
+use crate::sampling::{PathSampler, PixelSampler, Rng, SamplePattern, hash};
 use crate::scene::RenderScene;
 
 /// Side of the square tiles the image is cut into.
@@ -96,8 +97,11 @@ fn render_tile(scene: &RenderScene, x0: u32, y0: u32) -> TileResult {
     let mut counters = Counters::default();
     let samples = match s.adaptive {
         None => {
-            uniform_tile(scene, (x0, y0, x1, y1), &mut film, &mut counters);
-            vec![s.sampler.count(); ((x1 - x0) * (y1 - y0)) as usize]
+            match s.integrator {
+                IntegratorDesc::Whitted => uniform_tile(scene, (x0, y0, x1, y1), &mut film, &mut counters),
+                IntegratorDesc::Path(_) => path_tile(scene, (x0, y0, x1, y1), &mut film, &mut counters),
+            }
+            vec![s.spp; ((x1 - x0) * (y1 - y0)) as usize]
         }
         Some(adaptive) => adaptive_tile(scene, &adaptive, (x0, y0, x1, y1), &mut film, &mut counters),
     };
@@ -178,7 +182,7 @@ fn adaptive_tile(
 fn uniform_tile(scene: &RenderScene, tile: (u32, u32, u32, u32), film: &mut FilmTile, counters: &mut Counters) {
     let (x0, y0, x1, y1) = tile;
     let s = &scene.settings;
-    let count = s.sampler.count() as usize;
+    let count = s.spp as usize;
     // Per pixel of a run, per sample: film position and value.
     let mut values = vec![(0.0f32, 0.0f32, Vec3::ZERO); PACKET * count];
     for py in y0..y1 {
@@ -201,6 +205,45 @@ fn uniform_tile(scene: &RenderScene, tile: (u32, u32, u32, u32), film: &mut Film
             }
         }
     }
+}
+
+/// Every sample of every pixel of the tile, path-traced one at a time, splatted in
+/// pixel order.
+fn path_tile(
+    scene: &RenderScene,
+    (x0, y0, x1, y1): (u32, u32, u32, u32),
+    film: &mut FilmTile,
+    counters: &mut Counters,
+) {
+    let s = &scene.settings;
+    for py in y0..y1 {
+        for px in x0..x1 {
+            for index in 0..s.spp {
+                let (fx, fy, value) = path_sample(scene, px, py, index, counters);
+                film.splat(&s.filter, fx, fy, value);
+            }
+        }
+    }
+}
+
+/// Sample `index` of pixel (`px`, `py`) path-traced: every number it uses comes from
+/// its [`PathSampler`] — pixel position, lens, time, then the path's own dimensions.
+fn path_sample(scene: &RenderScene, px: u32, py: u32, index: u32, counters: &mut Counters) -> (f32, f32, Vec3) {
+    let s = &scene.settings;
+    let kind = match s.integrator {
+        IntegratorDesc::Path(p) => p.sampler,
+        IntegratorDesc::Whitted => crate::desc::SamplerKind::Sobol,
+    };
+    let mut sampler = PathSampler::new(kind, px, py, index, s.seed);
+    let offset = sampler.next_2d();
+    let lens = sampler.next_2d();
+    let time = sampler.next_1d();
+    let (fx, fy) = (px as f32 + offset.x, py as f32 + offset.y);
+    let mut ray = scene.camera.ray(2.0 * fx / s.width as f32 - 1.0, 1.0 - 2.0 * fy / s.height as f32, lens);
+    if !scene.motions.is_empty() {
+        ray.time = time;
+    }
+    (fx, fy, finite_or_black(path::radiance(scene, &ray, &mut sampler, counters)))
 }
 
 /// A camera sample ready to trace: its film position (pixels), its ray, and the
@@ -233,6 +276,9 @@ fn trace_sample(
     index: u32,
     counters: &mut Counters,
 ) -> (f32, f32, Vec3) {
+    if let IntegratorDesc::Path(_) = scene.settings.integrator {
+        return path_sample(scene, px, py, index, counters);
+    }
     let mut sample = camera_sample(scene, sampler, px, py, index);
     let value = whitted::radiance(scene, &sample.ray, 0, Vec3::ONE, &mut sample.ctx);
     counters.rays += sample.ctx.counters.rays;
@@ -310,6 +356,10 @@ pub fn render_preview(scene: &RenderScene, block: u32) -> Image {
                 .map(|bx| {
                     let cx = ((bx * block) as f32 + 0.5 * block as f32).min(width as f32 - 0.5);
                     let cy = ((by * block) as f32 + 0.5 * block as f32).min(height as f32 - 0.5);
+                    if let IntegratorDesc::Path(_) = scene.settings.integrator {
+                        let mut counters = Counters::default();
+                        return path_sample(scene, cx as u32, cy as u32, 0, &mut counters).2;
+                    }
                     let mut ctx = TraceContext { counters: Counters::default(), rng: Rng::new(hash(&[bx, by])) };
                     trace_film_point(scene, cx, cy, Vec2::splat(0.5), &mut ctx)
                 })

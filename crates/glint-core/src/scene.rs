@@ -7,8 +7,10 @@ use glam::{Mat4, Vec2, Vec3};
 
 use crate::accel::lanes::{F32x8, Portable};
 use crate::accel::{Bvh, Order, WideBvh};
+use crate::bsdf::Bsdf;
 use crate::camera::Camera;
-use crate::desc::{AdaptiveDesc, Features, NodeDesc, NodeKind, SceneDesc, ShapeDesc, TransformOp};
+use crate::desc::{AdaptiveDesc, Features, IntegratorDesc, NodeDesc, NodeKind, SceneDesc, ShapeDesc, TransformOp};
+use crate::emitter::{Emitter, Environment};
 use crate::light::Light;
 use crate::material::Material;
 use crate::math::{Aabb, Ray, Transform, offset_ray_origin};
@@ -16,6 +18,7 @@ use crate::mesh::Mesh;
 use crate::sampling::{Filter, PixelSampler};
 use crate::shape::{Shape, ShapeKind, ShapeTables};
 
+mod lighting;
 mod motion;
 mod packet;
 mod solids;
@@ -49,6 +52,10 @@ pub struct Settings {
     pub filter: Filter,
     pub adaptive: Option<AdaptiveDesc>,
     pub seed: u32,
+    /// Which light-transport algorithm renders the image.
+    pub integrator: IntegratorDesc,
+    /// Camera samples per pixel (before adaptive refinement).
+    pub spp: u32,
 }
 
 /// Everything a backend needs, as flat arrays of plain records.
@@ -75,6 +82,18 @@ pub struct RenderScene {
     pub texels: Vec<Vec3>,
     /// True when some material lets light through, so shadow rays must look past hits.
     pub has_transmissive: bool,
+    /// The physically based reading of each material (same index), with its emission.
+    pub bsdfs: Vec<Bsdf>,
+    /// Everything the path tracer samples light from: area emitters, point, spot and
+    /// directional lights, and a record standing for the environment.
+    pub emitters: Vec<Emitter>,
+    /// Per instance, its first emitter or [`crate::emitter::NO_EMITTER`].
+    pub instance_emitters: Vec<u32>,
+    /// Chooses an emitter in proportion to its power; `None` without emitters.
+    pub light_selection: Option<crate::sampling::Distribution1D>,
+    pub environment: Option<Environment>,
+    /// Index of the environment's record in `emitters`.
+    pub environment_emitter: u32,
 }
 
 /// The closest intersection, with world-space surface data.
@@ -95,6 +114,9 @@ pub struct Hit {
     pub shadow_point: Vec3,
     pub uv: Vec2,
     pub material: u32,
+    /// Which instance was hit, and which part of it (a mesh's triangle, a cube's face).
+    pub instance: u32,
+    pub part: u32,
 }
 
 /// Why a scene description cannot be rendered; `origin` says where it came from.
@@ -188,6 +210,8 @@ pub fn compile(desc: &SceneDesc) -> Result<RenderScene, CompileError> {
     instances.extend(unbounded);
 
     let has_transmissive = materials.iter().any(Material::is_transmissive);
+    let bsdfs: Vec<Bsdf> = desc.materials.iter().map(Bsdf::compile).collect();
+    let lighting = lighting::compile(desc, &instances, &meshes, &bsdfs, bvh.bounds())?;
     Ok(RenderScene {
         settings,
         camera,
@@ -202,6 +226,12 @@ pub fn compile(desc: &SceneDesc) -> Result<RenderScene, CompileError> {
         textures,
         texels,
         has_transmissive,
+        bsdfs,
+        emitters: lighting.emitters,
+        instance_emitters: lighting.instance_emitters,
+        light_selection: lighting.selection,
+        environment: lighting.environment,
+        environment_emitter: lighting.environment_emitter,
     })
 }
 
@@ -248,20 +278,46 @@ fn compile_settings(desc: &SceneDesc) -> Result<Settings, CompileError> {
     if !lens_valid(desc) {
         return Err(invalid("camera", "aperture_radius must be >= 0 and focal_distance > 0"));
     }
+    let (pattern, per_axis, spp) = sample_counts(s)?;
     Ok(Settings {
         width: s.width,
         height: s.height,
-        samples_per_axis: s.samples_per_axis,
+        samples_per_axis: per_axis,
         max_depth: s.max_depth.min(64),
         min_contribution: s.min_contribution.max(0.0),
         background: s.background,
         ambient_light: s.ambient_light,
         features: s.features,
-        sampler: PixelSampler { pattern: s.pattern, per_axis: s.samples_per_axis, seed: s.seed },
+        sampler: PixelSampler { pattern, per_axis, seed: s.seed },
         filter,
         adaptive: s.adaptive,
         seed: s.seed,
+        integrator: s.integrator,
+        spp,
     })
+}
+
+/// Most samples per pixel `spp` accepts.
+pub const MAX_SPP: u32 = 1 << 20;
+
+/// The pixel pattern, samples per axis and samples per pixel. `spp`, when set, wins:
+/// a square count keeps the pattern as an n×n grid, any other count takes Sobol points.
+fn sample_counts(s: &crate::desc::RenderSettings) -> Result<(crate::sampling::SamplePattern, u32, u32), CompileError> {
+    use crate::sampling::SamplePattern;
+    let Some(spp) = s.spp else {
+        let count =
+            if s.pattern == SamplePattern::CornersAndCentre { 5 } else { s.samples_per_axis * s.samples_per_axis };
+        return Ok((s.pattern, s.samples_per_axis, count));
+    };
+    if !(1..=MAX_SPP).contains(&spp) {
+        return Err(invalid("settings", format!("spp {spp} is out of range 1..={MAX_SPP}")));
+    }
+    let root = (spp as f64).sqrt().round() as u32;
+    if root * root == spp && root <= 64 && s.pattern != SamplePattern::CornersAndCentre {
+        Ok((s.pattern, root, spp))
+    } else {
+        Ok((SamplePattern::Sobol, root.clamp(1, 64), spp))
+    }
 }
 
 /// The transform a node's ops make, first op acting on the object first.
@@ -471,6 +527,8 @@ impl RenderScene {
             shadow_point: xf.point_to_world(shadow_point),
             uv: surface.uv,
             material: inst.shape.hit_material(&self.shape_tables, hit).unwrap_or(inst.material),
+            instance: index,
+            part: hit.part,
         }
     }
 
@@ -558,5 +616,21 @@ impl RenderScene {
     /// Samples texture `index` at `uv`.
     pub fn texture(&self, index: u32, uv: Vec2) -> Vec3 {
         self.textures[index as usize].sample(uv, &self.texels)
+    }
+
+    /// Radiance of a ray that leaves the scene along `dir`: the environment's, or the
+    /// background colour.
+    pub fn background(&self, dir: Vec3) -> Vec3 {
+        self.environment.as_ref().map_or(self.settings.background, |env| env.radiance(dir))
+    }
+
+    /// The emitter record a hit on an emissive surface lies on, if it is sampled.
+    pub fn emitter_of(&self, hit: &Hit) -> Option<u32> {
+        let first = *self.instance_emitters.get(hit.instance as usize)?;
+        if first == crate::emitter::NO_EMITTER {
+            return None;
+        }
+        let kind = self.instances[hit.instance as usize].shape.kind;
+        Some(if matches!(kind, ShapeKind::Mesh | ShapeKind::Cube) { first + hit.part } else { first })
     }
 }

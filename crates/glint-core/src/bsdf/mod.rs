@@ -430,7 +430,7 @@ impl SurfaceBsdf {
             return None;
         }
         let pdf = self.pdf(wo, wi);
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         let weight = self.eval(wo, wi) * (wi.z.abs() / pdf);
@@ -476,7 +476,7 @@ impl SurfaceBsdf {
             return None;
         }
         let (value, pdf) = self.rough_dielectric(wo, wi);
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         let weight = value * (wi.z.abs() / pdf);

@@ -95,7 +95,7 @@ pub(super) fn sample(s: &SurfaceBsdf, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<
             if u_lobe < c0 { cosine_hemisphere(u) } else { phong_lobe(mirror(wo_front), s.record.exponent, u) };
         let wi = wi_front * flip;
         let pdf = pdf(s, wo, wi);
-        if wi_front.z <= 0.0 || !(pdf > 0.0) {
+        if wi_front.z <= 0.0 || (pdf.is_nan() || pdf <= 0.0) {
             return None;
         }
         return Some(BsdfSample { wi, weight: eval(s, wo, wi) * (wi_front.z / pdf), pdf, delta: false, eta: 1.0 });

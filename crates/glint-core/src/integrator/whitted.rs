@@ -33,7 +33,7 @@ pub fn shade(
 ) -> Vec3 {
     ctx.counters.rays += 1;
     let Some(hit) = hit else {
-        return scene.settings.background;
+        return scene.background(ray.dir);
     };
     let material = &scene.materials[hit.material as usize];
     let d = ray.dir.normalize();

@@ -29,7 +29,7 @@ impl Distribution1D {
             sum += w as f64;
             cdf.push(sum as f32);
         }
-        if !(sum > 0.0) {
+        if sum.is_nan() || sum <= 0.0 {
             return None;
         }
         for c in &mut cdf {

@@ -1,0 +1,101 @@
+#!/usr/bin/env bash
+# Speed of glint's path tracer against Mitsuba 3 on the Cornell box (bench/mitsuba/cornell.xml,
+# 512x512, max_depth 8, 2 threads): Mitsuba llvm_ad_rgb and scalar_rgb at 256 spp (timed) and
+# glint at increasing spp (timed), each compared with a converged Mitsuba render (the ground
+# truth, 4096 spp, rendered once and cached). Prints samples per second, the rMSE against the
+# ground truth, and the time glint needs to reach the error of Mitsuba's 256-spp images
+# (log-log interpolation on glint's error/time curve) with its ratio to Mitsuba's time.
+#
+#   bench/mitsuba_speed.sh
+#   GLINT_SPPS="16 64 256 1024" MITSUBA_SPP=128 bench/mitsuba_speed.sh
+#   MITSUBA_ONLY=1 bench/mitsuba_speed.sh       # no glint: the Mitsuba half only
+#
+# Environment (defaults in brackets): MITSUBA_SPP [256]  GLINT_SPPS [16 32 64 128 256 512]
+#   GT_SPP [4096]  WIDTH [512]  HEIGHT [512]  MAX_DEPTH [8]  THREADS [2]
+#   SKIP_SCALAR [0; 1 leaves out scalar_rgb, which takes ~1.5 min]
+#   MITSUBA_REFS [/work/mitsuba-refs]: where the ground truth is cached (rendering it takes
+#       ~8 min on 2 idle cores)   OUT [target/mitsuba-speed]
+#   GLINT [target/release/glint, built here unless NO_BUILD=1]   GLINT_ARGS [extra arguments]
+#
+# Times are wall-clock seconds: for glint the whole process (parse, BVH, render, write); for
+# Mitsuba scene loading plus rendering, JIT compilation included, without Python's start-up
+# and the import of Mitsuba (about 1 s, which would only favour glint if counted). Keep the
+# machine otherwise idle while it runs.
+set -euo pipefail
+
+root="$(cd "$(dirname "$0")/.." && pwd)"
+source "$root/bench/mitsuba/common.sh"
+
+scene=cornell
+mitsuba_spp="${MITSUBA_SPP:-256}"
+glint_spps="${GLINT_SPPS:-16 32 64 128 256 512}"
+gt_spp="${GT_SPP:-4096}"
+w="${WIDTH:-512}"
+h="${HEIGHT:-512}"
+depth="${MAX_DEPTH:-8}"
+threads="${THREADS:-2}"
+out="${OUT:-$root/target/mitsuba-speed}"
+glint="${GLINT:-$root/target/release/glint}"
+mitsuba_only="${MITSUBA_ONLY:-0}"
+gt_seed=7
+timed_seed=3
+
+check_mitsuba llvm_ad_rgb
+mkdir -p "$out"
+if [[ "$mitsuba_only" != 1 ]]; then
+    if [[ -z "${GLINT:-}" && "${NO_BUILD:-0}" != 1 ]]; then
+        echo "building glint (cargo build --release -p glint-cli) ..." >&2
+        (cd "$root" && cargo build --release -p glint-cli) || die "cargo build --release -p glint-cli failed"
+    fi
+    [[ -x "$glint" ]] || die "no glint binary at $glint (build it with cargo build --release -p glint-cli, or set GLINT)"
+fi
+
+echo "== ground truth: Mitsuba llvm_ad_rgb, $gt_spp spp (cached in $refs)" >&2
+gt=$(mitsuba_render "$scene" "$w" "$h" "$gt_spp" "$depth" "$gt_seed" llvm_ad_rgb "$threads")
+
+# Timed Mitsuba renders: always fresh. A tiny render first compiles (and caches on disk) the
+# LLVM kernels, as a warmed-up machine would have them.
+"$python" "$mitsuba_dir/render.py" "$mitsuba_dir/$scene.xml" -o "$out/warmup.exr" --variant llvm_ad_rgb \
+    --threads "$threads" --spp 4 -D width=64 -D height=64 -D max_depth="$depth" -q >/dev/null 2>&1 ||
+    die "Mitsuba llvm_ad_rgb does not render $scene.xml; run bench/mitsuba/render.py by hand to see why"
+mitsuba_args=()
+variants=(llvm_ad_rgb)
+[[ "${SKIP_SCALAR:-0}" == 1 ]] || variants+=(scalar_rgb)
+for variant in "${variants[@]}"; do
+    echo "== Mitsuba $variant: $mitsuba_spp spp, timed" >&2
+    exr="$out/mitsuba-$variant-${mitsuba_spp}spp.exr"
+    # One pass of all samples (the timed configuration Mitsuba users would run), unless that
+    # is more than 256 spp.
+    json=$("$python" "$mitsuba_dir/render.py" "$mitsuba_dir/$scene.xml" -o "$exr" --variant "$variant" \
+        --threads "$threads" --spp "$mitsuba_spp" --seed "$timed_seed" --pass-spp 256 \
+        -D width="$w" -D height="$h" -D max_depth="$depth" --strict -q 2>"$out/mitsuba-$variant.log" | tail -n 1) || {
+        cat "$out/mitsuba-$variant.log" >&2
+        die "Mitsuba $variant failed"
+    }
+    secs=$(echo "$json" | "$python" -c 'import json, sys; print(json.load(sys.stdin)["total_s"])')
+    echo "   $secs s" >&2
+    mitsuba_args+=(--mitsuba "Mitsuba $variant:$exr:$secs:$mitsuba_spp")
+done
+
+glint_args=()
+if [[ "$mitsuba_only" != 1 ]]; then
+    for spp in $glint_spps; do
+        echo "== glint: $spp spp" >&2
+        g="$out/glint-${spp}spp.exr"
+        # shellcheck disable=SC2206 # GLINT_ARGS is split on purpose
+        cmd=("$glint" render "$mitsuba_dir/$scene.xml" -o "$g" --spp "$spp" --width "$w" --height "$h" -j "$threads" -q ${GLINT_ARGS:-})
+        start=$(date +%s.%N)
+        "${cmd[@]}" >"$out/glint-${spp}spp.log" 2>&1 || {
+            sed 's/^/    /' "$out/glint-${spp}spp.log" >&2
+            die "glint failed: ${cmd[*]}"
+        }
+        secs=$(echo "$(date +%s.%N) - $start" | bc)
+        echo "   $secs s" >&2
+        glint_args+=(--glint "$g:$secs:$spp")
+    done
+fi
+
+echo >&2
+echo "Cornell box ${w}x${h}, max_depth $depth, $threads threads"
+echo
+"$python" "$mitsuba_dir/compare.py" speed --gt "$gt" "${mitsuba_args[@]}" "${glint_args[@]}"
