@@ -11,11 +11,12 @@
 #
 # Environment (defaults in brackets):
 #   SCENES [cornell glass-metal envmap emissive-mesh]   WIDTH, HEIGHT [each scene's own]
-#   SPP [512]   MAX_DEPTH [each scene's own, 8]   THREADS [2]   SEED_A [1]  SEED_B [2]
+#   SPP [512]   MAX_DEPTH [each scene's own, 8]   THREADS [2]   SEED_A [3]  SEED_B [4]
 #   MITSUBA_VARIANT [llvm_ad_rgb; scalar_rgb also works, ~3x slower]
 #   MITSUBA_REFS [/work/mitsuba-refs]: cache of Mitsuba renders (reruns only render glint);
-#       a higher-spp render there of the same scene, resolution and depth (seed 1) is used as a
-#       converged reference for two more columns.
+#       the highest-spp render there of the same scene, resolution and depth, if it has more
+#       spp than SPP and a seed other than SEED_A and SEED_B, is the converged reference of
+#       two more columns (glint and Mitsuba A against it).
 #   GLINT [target/release/glint, built here with cargo build --release -p glint-cli unless
 #       NO_BUILD=1]   GLINT_ARGS [extra arguments for glint render]   OUT [target/mitsuba-compare]
 #
@@ -30,8 +31,8 @@ source "$root/bench/mitsuba/common.sh"
 scenes="${SCENES:-cornell glass-metal envmap emissive-mesh}"
 spp="${SPP:-512}"
 threads="${THREADS:-2}"
-seed_a="${SEED_A:-1}"
-seed_b="${SEED_B:-2}"
+seed_a="${SEED_A:-3}"
+seed_b="${SEED_B:-4}"
 variant="${MITSUBA_VARIANT:-llvm_ad_rgb}"
 out="${OUT:-$root/target/mitsuba-compare}"
 glint="${GLINT:-$root/target/release/glint}"
@@ -65,12 +66,16 @@ for scene in $scenes; do
     a=$(mitsuba_render "$scene" "$w" "$h" "$spp" "$depth" "$seed_a" "$variant" "$threads")
     b=$(mitsuba_render "$scene" "$w" "$h" "$spp" "$depth" "$seed_b" "$variant" "$threads")
 
-    # A converged reference: the highest-spp cached render of this scene at this size and depth.
+    # A converged reference: the highest-spp cached render of this scene at this size and
+    # depth, independent of A and B (another seed: a render with seed A and more spp would
+    # share A's first passes).
     ref=-
     best=0
     shopt -s nullglob
-    for f in "$refs/$scene-$(scene_hash "$scene")-${w}x${h}-d$depth-"*"spp-seed$seed_a-"*.exr; do
+    for f in "$refs/$scene-$(scene_hash "$scene")-${w}x${h}-d$depth-"*spp-seed*.exr; do
         n=$(basename "$f" | sed -n 's/.*-\([0-9]*\)spp-seed.*/\1/p')
+        s=$(basename "$f" | sed -n 's/.*-seed\([0-9]*\)-.*/\1/p')
+        [[ "$s" != "$seed_a" && "$s" != "$seed_b" ]] || continue
         if [[ -n "$n" && "$n" -gt "$spp" && "$n" -gt "$best" ]]; then
             best=$n
             ref=$f

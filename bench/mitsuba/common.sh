@@ -72,7 +72,7 @@ mitsuba_render() {
             cat "$refs/$name.log" >&2
             die "Mitsuba failed on $scene (log: $refs/$name.log)"
         }
-        tail -n 1 "$refs/$name.json.tmp" >"$refs/$name.json"
+        tail -n 1 "$refs/$name.json.tmp" | sed "s|$exr.tmp.exr|$exr|" >"$refs/$name.json"
         rm -f "$refs/$name.json.tmp"
         mv "$exr.tmp.exr" "$exr"
     else

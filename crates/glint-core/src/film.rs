@@ -16,17 +16,53 @@ pub struct FilmTile {
     pub height: u32,
     sums: Vec<Vec3>,
     weights: Vec<f32>,
+    /// Weighted sums of the auxiliary outputs, when kept: albedo, normal, depth.
+    aov_sums: Vec<[Vec3; 3]>,
+}
+
+/// What the first surface a camera sample meets looks like: the auxiliary outputs
+/// (AOVs) a denoiser or a debugging eye wants beside the colour.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Aov {
+    /// The surface's main reflectance (textured), black where the ray left the scene.
+    pub albedo: Vec3,
+    /// Unit world-space shading normal, zero where the ray left the scene.
+    pub normal: Vec3,
+    /// Distance from the camera to the hit, 0 where the ray left the scene.
+    pub depth: f32,
+}
+
+/// The AOV images of a render, filtered like the colour.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AovImages {
+    pub albedo: Image,
+    pub normal: Image,
+    /// Distance in all three channels.
+    pub depth: Image,
 }
 
 impl FilmTile {
     pub fn new(x0: u32, y0: u32, width: u32, height: u32) -> Self {
         let n = width as usize * height as usize;
-        Self { x0, y0, width, height, sums: vec![Vec3::ZERO; n], weights: vec![0.0; n] }
+        Self { x0, y0, width, height, sums: vec![Vec3::ZERO; n], weights: vec![0.0; n], aov_sums: Vec::new() }
+    }
+
+    /// A film that also accumulates [`Aov`]s.
+    pub fn with_aovs(mut self) -> Self {
+        self.aov_sums = vec![[Vec3::ZERO; 3]; self.sums.len()];
+        self
     }
 
     /// Adds a sample at continuous film position (`fx`, `fy`) (pixels, y down) to every
     /// pixel of this rectangle within the filter's radius.
     pub fn splat(&mut self, filter: &Filter, fx: f32, fy: f32, value: Vec3) {
+        self.splat_with(filter, fx, fy, value, None);
+    }
+
+    /// [`FilmTile::splat`] with the sample's AOVs (kept only by a film made
+    /// [`FilmTile::with_aovs`]).
+    pub fn splat_with(&mut self, filter: &Filter, fx: f32, fy: f32, value: Vec3, aov: Option<&Aov>) {
+        let aov = aov.filter(|_| !self.aov_sums.is_empty()).map(|a| [a.albedo, a.normal, Vec3::splat(a.depth)]);
         let r = filter.radius;
         let x_lo = ((fx - 0.5 - r).ceil() as i64).max(self.x0 as i64);
         let x_hi = ((fx - 0.5 + r).floor() as i64).min(self.x0 as i64 + self.width as i64 - 1);
@@ -39,6 +75,11 @@ impl FilmTile {
                     let i = ((py - self.y0 as i64) * self.width as i64 + (px - self.x0 as i64)) as usize;
                     self.sums[i] += w * value;
                     self.weights[i] += w;
+                    if let Some(layers) = &aov {
+                        for (sum, layer) in self.aov_sums[i].iter_mut().zip(layers) {
+                            *sum += w * *layer;
+                        }
+                    }
                 }
             }
         }
@@ -52,6 +93,11 @@ impl FilmTile {
                 let j = ((y - other.y0) * other.width + (x - other.x0)) as usize;
                 self.sums[i] += other.sums[j];
                 self.weights[i] += other.weights[j];
+                if !self.aov_sums.is_empty() && !other.aov_sums.is_empty() {
+                    for (sum, add) in self.aov_sums[i].iter_mut().zip(other.aov_sums[j]) {
+                        *sum += add;
+                    }
+                }
             }
         }
     }
@@ -65,6 +111,24 @@ impl FilmTile {
             .map(|(s, &w)| if w.abs() > 1e-12 { *s / w } else { Vec3::ZERO })
             .collect();
         Image { width: self.width, height: self.height, pixels }
+    }
+
+    /// The AOVs' weighted averages, when this film kept them.
+    pub fn resolve_aovs(&self) -> Option<AovImages> {
+        if self.aov_sums.is_empty() {
+            return None;
+        }
+        let layer = |k: usize| Image {
+            width: self.width,
+            height: self.height,
+            pixels: self
+                .aov_sums
+                .iter()
+                .zip(&self.weights)
+                .map(|(s, &w)| if w.abs() > 1e-12 { s[k] / w } else { Vec3::ZERO })
+                .collect(),
+        };
+        Some(AovImages { albedo: layer(0), normal: layer(1), depth: layer(2) })
     }
 }
 

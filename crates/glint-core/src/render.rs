@@ -12,7 +12,7 @@ use rayon::prelude::*;
 use crate::accel::PACKET;
 use crate::desc::AdaptiveDesc;
 use crate::desc::IntegratorDesc;
-use crate::film::{FilmTile, Image, linear_to_srgb};
+use crate::film::{Aov, AovImages, FilmTile, Image, linear_to_srgb};
 use crate::integrator::{Counters, TraceContext, path, whitted};
 use crate::math::Ray;
 use crate::sampling::{PathSampler, PixelSampler, Rng, SamplePattern, hash};
@@ -22,13 +22,15 @@ use crate::scene::RenderScene;
 pub const TILE_SIZE: u32 = 16;
 
 /// What a finished render reports besides the image.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct RenderStats {
     /// Rays traced: camera, reflected, refracted and shadow rays.
     pub rays: u64,
     /// Camera samples taken in each pixel, row by row: an AOV that shows where adaptive
     /// sampling spent its effort.
     pub samples_per_pixel: Vec<u32>,
+    /// Albedo, normal and depth images, when the scene's settings ask for them.
+    pub aovs: Option<AovImages>,
 }
 
 /// Why a render returned no image.
@@ -63,8 +65,8 @@ pub fn render(
     if cancel.load(Ordering::Relaxed) || tiles.iter().any(Option::is_none) {
         return Err(RenderError::Cancelled);
     }
-    let mut film = FilmTile::new(0, 0, width, height);
-    let mut stats = RenderStats { rays: 0, samples_per_pixel: vec![0; (width * height) as usize] };
+    let mut film = new_film(scene, 0, 0, width, height);
+    let mut stats = RenderStats { rays: 0, samples_per_pixel: vec![0; (width * height) as usize], aovs: None };
     for tile in tiles.into_iter().flatten() {
         film.merge(&tile.film);
         stats.rays += tile.counters.rays;
@@ -73,7 +75,28 @@ pub fn render(
             stats.samples_per_pixel[start..start + counts.len()].copy_from_slice(counts);
         }
     }
+    stats.aovs = film.resolve_aovs();
     Ok((film.resolve(), stats))
+}
+
+fn new_film(scene: &RenderScene, x0: u32, y0: u32, width: u32, height: u32) -> FilmTile {
+    let film = FilmTile::new(x0, y0, width, height);
+    if scene.settings.aovs { film.with_aovs() } else { film }
+}
+
+/// One traced camera sample: where it lies on the film, what it brought back, and
+/// what its first hit looks like.
+struct Traced {
+    fx: f32,
+    fy: f32,
+    value: Vec3,
+    aov: Aov,
+}
+
+impl Traced {
+    fn splat(&self, film: &mut FilmTile, scene: &RenderScene) {
+        film.splat_with(&scene.settings.filter, self.fx, self.fy, self.value, Some(&self.aov));
+    }
 }
 
 struct TileResult {
@@ -93,7 +116,7 @@ fn render_tile(scene: &RenderScene, x0: u32, y0: u32) -> TileResult {
     let halo = (s.filter.radius - 0.5).ceil().max(0.0) as u32;
     let (fx0, fy0) = (x0.saturating_sub(halo), y0.saturating_sub(halo));
     let (fx1, fy1) = ((x1 + halo).min(s.width), (y1 + halo).min(s.height));
-    let mut film = FilmTile::new(fx0, fy0, fx1 - fx0, fy1 - fy0);
+    let mut film = new_film(scene, fx0, fy0, fx1 - fx0, fy1 - fy0);
     let mut counters = Counters::default();
     let samples = match s.adaptive {
         None => {
@@ -136,11 +159,11 @@ fn adaptive_tile(
             let inside = (x0..x1).contains(&px) && (y0..y1).contains(&py);
             let mut spread = Spread::default();
             for index in 0..adaptive.min_samples {
-                let (fx, fy, value) = trace_sample(scene, &sampler, px, py, index, counters);
+                let traced = trace_sample(scene, &sampler, px, py, index, counters);
                 if inside {
-                    film.splat(&s.filter, fx, fy, value);
+                    traced.splat(film, scene);
                 }
-                spread.add(display_luminance(value));
+                spread.add(display_luminance(traced.value));
             }
             spreads.push(spread);
         }
@@ -160,9 +183,9 @@ fn adaptive_tile(
             let mut target = forced.min(adaptive.max_samples);
             loop {
                 while spread.count < target {
-                    let (fx, fy, value) = trace_sample(scene, &sampler, px, py, spread.count, counters);
-                    film.splat(&s.filter, fx, fy, value);
-                    spread.add(display_luminance(value));
+                    let traced = trace_sample(scene, &sampler, px, py, spread.count, counters);
+                    traced.splat(film, scene);
+                    spread.add(display_luminance(traced.value));
                 }
                 if spread.count >= adaptive.max_samples || spread.standard_error() <= adaptive.threshold {
                     break;
@@ -183,8 +206,9 @@ fn uniform_tile(scene: &RenderScene, tile: (u32, u32, u32, u32), film: &mut Film
     let (x0, y0, x1, y1) = tile;
     let s = &scene.settings;
     let count = s.spp as usize;
-    // Per pixel of a run, per sample: film position and value.
-    let mut values = vec![(0.0f32, 0.0f32, Vec3::ZERO); PACKET * count];
+    // Per pixel of a run, per sample: film position, value and AOVs.
+    let mut values: Vec<Traced> =
+        (0..PACKET * count).map(|_| Traced { fx: 0.0, fy: 0.0, value: Vec3::ZERO, aov: Aov::default() }).collect();
     for py in y0..y1 {
         for run_x in (x0..x1).step_by(PACKET) {
             let run = (x1 - run_x).min(PACKET as u32) as usize;
@@ -197,11 +221,13 @@ fn uniform_tile(scene: &RenderScene, tile: (u32, u32, u32, u32), film: &mut Film
                 for (k, sample) in samples.iter_mut().enumerate().take(run) {
                     let value = whitted::shade(scene, &sample.ray, hits[k], 0, Vec3::ONE, &mut sample.ctx);
                     counters.rays += sample.ctx.counters.rays;
-                    values[k * count + index as usize] = (sample.fx, sample.fy, finite_or_black(value));
+                    let aov = if s.aovs { whitted_aov(scene, &sample.ray, hits[k].as_ref()) } else { Aov::default() };
+                    values[k * count + index as usize] =
+                        Traced { fx: sample.fx, fy: sample.fy, value: finite_or_black(value), aov };
                 }
             }
-            for &(fx, fy, value) in &values[..run * count] {
-                film.splat(&s.filter, fx, fy, value);
+            for traced in &values[..run * count] {
+                traced.splat(film, scene);
             }
         }
     }
@@ -219,8 +245,7 @@ fn path_tile(
     for py in y0..y1 {
         for px in x0..x1 {
             for index in 0..s.spp {
-                let (fx, fy, value) = path_sample(scene, px, py, index, counters);
-                film.splat(&s.filter, fx, fy, value);
+                path_sample(scene, px, py, index, counters).splat(film, scene);
             }
         }
     }
@@ -228,7 +253,7 @@ fn path_tile(
 
 /// Sample `index` of pixel (`px`, `py`) path-traced: every number it uses comes from
 /// its [`PathSampler`] — pixel position, lens, time, then the path's own dimensions.
-fn path_sample(scene: &RenderScene, px: u32, py: u32, index: u32, counters: &mut Counters) -> (f32, f32, Vec3) {
+fn path_sample(scene: &RenderScene, px: u32, py: u32, index: u32, counters: &mut Counters) -> Traced {
     let s = &scene.settings;
     let kind = match s.integrator {
         IntegratorDesc::Path(p) => p.sampler,
@@ -243,7 +268,18 @@ fn path_sample(scene: &RenderScene, px: u32, py: u32, index: u32, counters: &mut
     if !scene.motions.is_empty() {
         ray.time = time;
     }
-    (fx, fy, finite_or_black(path::radiance(scene, &ray, &mut sampler, counters)))
+    let mut aov = Aov::default();
+    let value = path::radiance(scene, &ray, &mut sampler, counters, s.aovs.then_some(&mut aov));
+    Traced { fx, fy, value: finite_or_black(value), aov }
+}
+
+/// The AOVs of a Whitted camera ray from its first hit: the diffuse colour (textured).
+fn whitted_aov(scene: &RenderScene, ray: &Ray, hit: Option<&crate::scene::Hit>) -> Aov {
+    let Some(hit) = hit else { return Aov::default() };
+    let m = &scene.materials[hit.material as usize];
+    let texel = (scene.settings.features.textures && m.texture != crate::material::NO_TEXTURE)
+        .then(|| scene.texture(m.texture, hit.uv * m.texture_repeat));
+    Aov { albedo: m.diffuse_with(texel), normal: hit.normal, depth: hit.t * ray.dir.length() }
 }
 
 /// A camera sample ready to trace: its film position (pixels), its ray, and the
@@ -275,14 +311,16 @@ fn trace_sample(
     py: u32,
     index: u32,
     counters: &mut Counters,
-) -> (f32, f32, Vec3) {
+) -> Traced {
     if let IntegratorDesc::Path(_) = scene.settings.integrator {
         return path_sample(scene, px, py, index, counters);
     }
     let mut sample = camera_sample(scene, sampler, px, py, index);
-    let value = whitted::radiance(scene, &sample.ray, 0, Vec3::ONE, &mut sample.ctx);
+    let hit = scene.intersect(&sample.ray, f32::INFINITY);
+    let value = whitted::shade(scene, &sample.ray, hit, 0, Vec3::ONE, &mut sample.ctx);
     counters.rays += sample.ctx.counters.rays;
-    (sample.fx, sample.fy, finite_or_black(value))
+    let aov = if scene.settings.aovs { whitted_aov(scene, &sample.ray, hit.as_ref()) } else { Aov::default() };
+    Traced { fx: sample.fx, fy: sample.fy, value: finite_or_black(value), aov }
 }
 
 /// Radiance through film position (`fx`, `fy`) in pixels (y down).
@@ -358,7 +396,7 @@ pub fn render_preview(scene: &RenderScene, block: u32) -> Image {
                     let cy = ((by * block) as f32 + 0.5 * block as f32).min(height as f32 - 0.5);
                     if let IntegratorDesc::Path(_) = scene.settings.integrator {
                         let mut counters = Counters::default();
-                        return path_sample(scene, cx as u32, cy as u32, 0, &mut counters).2;
+                        return path_sample(scene, cx as u32, cy as u32, 0, &mut counters).value;
                     }
                     let mut ctx = TraceContext { counters: Counters::default(), rng: Rng::new(hash(&[bx, by])) };
                     trace_film_point(scene, cx, cy, Vec2::splat(0.5), &mut ctx)

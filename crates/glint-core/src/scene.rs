@@ -56,6 +56,8 @@ pub struct Settings {
     pub integrator: IntegratorDesc,
     /// Camera samples per pixel (before adaptive refinement).
     pub spp: u32,
+    /// Also accumulate albedo, normal and depth images (off unless a caller asks).
+    pub aovs: bool,
 }
 
 /// Everything a backend needs, as flat arrays of plain records.
@@ -294,6 +296,7 @@ fn compile_settings(desc: &SceneDesc) -> Result<Settings, CompileError> {
         seed: s.seed,
         integrator: s.integrator,
         spp,
+        aovs: false,
     })
 }
 

@@ -57,6 +57,37 @@ pub fn write_image(image: &Image, path: &Path, format: OutputFormat, transfer: T
     result
 }
 
+/// Writes a multi-layer OpenEXR file (32-bit float): the first image as the plain
+/// `R`, `G`, `B` channels every viewer shows, the others as named layers (`albedo.R`,
+/// `normal.X`, `depth.Z`, … as `channels` names them). Atomic like [`write_image`].
+pub fn write_exr_layers(path: &Path, beauty: &Image, layers: &[(&str, [&str; 3], &Image)]) -> Result<(), WriteError> {
+    use exr::prelude::{AnyChannel, AnyChannels, FlatSamples, WritableImage};
+    let tmp = temp_sibling(path);
+    let channel = |name: String, image: &Image, k: usize| {
+        AnyChannel::new(name.as_str(), FlatSamples::F32(image.pixels.iter().map(|p| p[k]).collect()))
+    };
+    let mut channels = exr::prelude::SmallVec::new();
+    for (k, name) in ["R", "G", "B"].into_iter().enumerate() {
+        channels.push(channel(name.to_string(), beauty, k));
+    }
+    for (layer, names, image) in layers {
+        for (k, name) in names.iter().enumerate() {
+            channels.push(channel(format!("{layer}.{name}"), image, k));
+        }
+    }
+    let size = (beauty.width as usize, beauty.height as usize);
+    let image = exr::prelude::Image::from_channels(size, AnyChannels::sort(channels));
+    let result = image
+        .write()
+        .to_file(&tmp)
+        .map_err(|e| WriteError::Io { path: tmp.clone(), source: std::io::Error::other(e.to_string()) })
+        .and_then(|()| fs::rename(&tmp, path).map_err(|source| WriteError::Io { path: path.to_owned(), source }));
+    if result.is_err() {
+        let _ = fs::remove_file(&tmp);
+    }
+    result
+}
+
 fn temp_sibling(path: &Path) -> PathBuf {
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     path.with_file_name(format!(".{name}.{}.tmp", std::process::id()))
@@ -146,6 +177,26 @@ mod tests {
             .count();
         assert_eq!(leftovers, 0);
         fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn layered_exr_keeps_every_channel() {
+        use exr::prelude::{ReadChannels, ReadLayers};
+        let path = std::env::temp_dir().join(format!("glint-layers-{}.exr", std::process::id()));
+        let beauty = sample_image();
+        let mut depth = Image::new(4, 3);
+        depth.pixels.iter_mut().enumerate().for_each(|(i, p)| *p = Vec3::splat(i as f32 * 10.0));
+        write_exr_layers(&path, &beauty, &[("depth", ["Z", "Z", "Z"], &depth)]).unwrap_err();
+        write_exr_layers(&path, &beauty, &[("albedo", ["R", "G", "B"], &depth)]).unwrap();
+        // The plain colour reads back as the image, the layer by its channel names.
+        assert!(read_image(&path).unwrap().mean_abs_diff(&beauty) < 1e-6);
+        let read = exr::prelude::read().no_deep_data().largest_resolution_level().all_channels().first_valid_layer();
+        let layers = read.all_attributes().from_file(&path).unwrap();
+        let names: Vec<String> = layers.layer_data.channel_data.list.iter().map(|c| c.name.to_string()).collect();
+        assert_eq!(names, ["B", "G", "R", "albedo.B", "albedo.G", "albedo.R"]);
+        let albedo_r = &layers.layer_data.channel_data.list[5].sample_data;
+        assert_eq!(albedo_r.value_by_flat_index(7).to_f32(), 70.0);
+        fs::remove_file(&path).unwrap();
     }
 
     #[test]

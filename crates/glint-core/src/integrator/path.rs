@@ -14,6 +14,7 @@ use super::Counters;
 use crate::bsdf::SurfaceBsdf;
 use crate::desc::PathDesc;
 use crate::emitter::{EmitterKind, LightSample};
+use crate::film::Aov;
 use crate::math::{Ray, offset_ray_origin};
 use crate::sampling::PathSampler;
 use crate::scene::{Hit, RenderScene};
@@ -57,8 +58,14 @@ struct Bounce {
 }
 
 /// Radiance arriving along the camera ray `ray`, drawing every random number from
-/// `sampler`.
-pub fn radiance(scene: &RenderScene, ray: &Ray, sampler: &mut PathSampler, counters: &mut Counters) -> Vec3 {
+/// `sampler`; `aov`, when given, receives what the first hit looks like.
+pub fn radiance(
+    scene: &RenderScene,
+    ray: &Ray,
+    sampler: &mut PathSampler,
+    counters: &mut Counters,
+    mut aov: Option<&mut Aov>,
+) -> Vec3 {
     let limits = match scene.settings.integrator {
         crate::desc::IntegratorDesc::Path(p) => p,
         crate::desc::IntegratorDesc::Whitted => PathDesc::default(),
@@ -78,6 +85,9 @@ pub fn radiance(scene: &RenderScene, ray: &Ray, sampler: &mut PathSampler, count
         let wo_world = -ray.dir.normalize();
         let record = &scene.bsdfs[hit.material as usize];
         let bsdf = record.at(hit.uv, |i, uv| scene.texture(i, uv));
+        if let Some(aov) = aov.take() {
+            *aov = Aov { albedo: bsdf.albedo(), normal: hit.normal, depth: hit.t * ray.dir.length() };
+        }
         radiance += throughput * emitted(scene, &hit, &bsdf, wo_world, previous);
 
         // Mitsuba's counting: a path of max_depth vertices past the camera at most.
