@@ -76,7 +76,7 @@ fn spot(p: &Plugin) -> Result<LightDesc, SceneError> {
     let color = plain_color(p, "intensity", Vec3::ONE)?;
     let cutoff = p.float_or("cutoff_angle", 20.0)?;
     let beam = p.float_or("beam_width", cutoff * 0.75)?;
-    if !(cutoff > 0.0 && cutoff <= 90.0) || !(0.0..=cutoff).contains(&beam) {
+    if !(cutoff > 0.0 && cutoff <= 90.0 && (0.0..=cutoff).contains(&beam)) {
         return Err(p.error(format!("needs 0 < beam_width ≤ cutoff_angle ≤ 90, not {beam} and {cutoff}")));
     }
     Ok(LightDesc::Spot {

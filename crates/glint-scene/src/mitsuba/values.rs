@@ -300,13 +300,15 @@ impl<'a> Plugin<'a> {
         Some(c)
     }
 
-    /// Every nested `<tag>` object and every `<ref>` without a `name`, in document
-    /// order; the caller resolves references and checks their kind.
+    /// Every nested `<tag>` object and every `<ref>` without a `name` (or named `tag`,
+    /// as exporters write `<ref name="bsdf" id=…/>`), in document order; the caller
+    /// resolves references and checks their kind.
     pub fn objects(&self, tag: &str) -> Vec<&'a Elem> {
         self.children
             .iter()
             .filter(|(c, used)| {
-                let hit = !used.get() && (c.tag == tag || c.tag == "ref" && c.attr("name").is_none());
+                let unnamed_or_tag = c.attr("name").is_none_or(|n| n == tag);
+                let hit = !used.get() && (c.tag == tag || c.tag == "ref" && unnamed_or_tag);
                 if hit {
                     used.set(true);
                 }
