@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use glam::{Mat4, Vec2, Vec3, Vec4};
+use glam::{Mat4, Vec2, Vec3};
 use glint_core::desc::{
     BsdfDesc, FilterKind, IntegratorDesc, LightDesc, NodeKind, PathDesc, SamplerKind, SceneDesc, ShapeDesc,
     TextureDesc, TransformOp,
@@ -368,6 +368,14 @@ fn envmap_exr_keeps_values_above_one() {
         }
         other => panic!("{other:?}"),
     }
+    // Radiance RGBE (.hdr) files load linear too.
+    image::Rgb32FImage::from_raw(1, 1, vec![8.0, 1.0, 0.5]).unwrap().save(dir.join("sky.hdr")).unwrap();
+    let text = text.replace("sky.exr", "sky.hdr");
+    let s = parse_mitsuba(&text, "env.xml", &dir).unwrap().scene;
+    match &s.textures[0] {
+        TextureDesc::Image { texels, .. } => close(texels[0], Vec3::new(8.0, 1.0, 0.5)),
+        other => panic!("{other:?}"),
+    }
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -501,5 +509,29 @@ fn includes_splice_in_another_files_objects() {
     assert_eq!(shape_of(&s, 0).0, ShapeDesc::Cube);
     assert!(s.objects[0].origin.ends_with("part.xml:2:1"), "{}", s.objects[0].origin);
     std::fs::remove_dir_all(&dir).unwrap();
-    let _ = Vec4::ZERO;
+}
+
+#[test]
+fn the_rendered_image_is_not_mirrored() {
+    // Mitsuba shows world +x on the image's right for this look-at; so must glint.
+    let mut s = scene(
+        r#"<sensor type="perspective"><float name="fov" value="60"/>
+            <transform name="to_world"><lookat origin="0 0 5" target="0 0 0" up="0 1 0"/></transform>
+            <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="16"/></film>
+        </sensor>
+        <emitter type="point"><point name="position" value="0 0 5"/><rgb name="intensity" value="25"/></emitter>
+        <shape type="sphere"><point name="center" value="1.5 0 0"/><float name="radius" value="0.6"/>
+            <bsdf type="diffuse"><rgb name="reflectance" value="1 0 0"/></bsdf></shape>
+        <shape type="rectangle"><transform name="to_world"><scale value="0.6"/><translate x="-1.5"/></transform>
+            <bsdf type="diffuse"><rgb name="reflectance" value="0 0 1"/></bsdf></shape>"#,
+    );
+    s.settings.integrator = IntegratorDesc::Whitted;
+    s.settings.spp = None;
+    let compiled = glint_core::scene::compile(&s).unwrap();
+    let (image, _) =
+        glint_core::render::render(&compiled, &|_, _| {}, &std::sync::atomic::AtomicBool::new(false)).unwrap();
+    let (right, left) = (image.get(24, 8), image.get(7, 8));
+    assert!(right.x > 0.1 && right.z < 0.01, "right side shows the red sphere: {right}");
+    // The rectangle faces +z, towards the camera, and is lit.
+    assert!(left.z > 0.1 && left.x < 0.01, "left side shows the blue rectangle: {left}");
 }

@@ -175,17 +175,23 @@ fn mesh_file(p: &Plugin, flip: bool) -> Result<MeshDesc, SceneError> {
     }
     let import = crate::mesh::load_mesh(&path).map_err(|e| p.param_error("filename", e))?;
     let mut mesh = crate::mesh::merged(&import, file, &path.display().to_string());
-    if p.bool_or("face_normals", false)? {
+    let face_normals = p.bool_or("face_normals", false)?;
+    let flip_uv = p.bool_or("flip_tex_coords", true)? && !mesh.uvs.is_empty();
+    if face_normals {
         mesh.normals.clear();
     }
     // Mitsuba flips v on load unless told not to; glint's uv must equal Mitsuba's.
-    if p.bool_or("flip_tex_coords", true)? {
+    if flip_uv {
         for uv in &mut mesh.uvs {
             uv.y = 1.0 - uv.y;
         }
     }
     if flip {
         flip_mesh(&mut mesh);
+    }
+    if face_normals || flip_uv || flip {
+        // No longer the file's data: a writer must not name the file in its place.
+        mesh.path.clear();
     }
     Ok(mesh)
 }

@@ -107,11 +107,13 @@ fn bitmap(p: &Plugin) -> Result<TextureDesc, SceneError> {
     let path = p.elem.resolve(file);
     let transfer = if raw { Transfer::Identity } else { Transfer::Srgb };
     let loaded = load_texture_hdr(&texture_name(p), &path, transfer).map_err(|e| p.param_error("filename", e))?;
-    let TextureDesc::Image { name, path, width, height, texels } = loaded else {
+    let TextureDesc::Image { name, width, height, texels, .. } = loaded else {
         return Err(p.error("the image loader returned no image"));
     };
     let (w, h, texels) = bake(width, height, &texels, scale, offset).map_err(|m| p.param_error("to_uv", m))?;
-    Ok(TextureDesc::Image { name, path, width: w, height: h, texels })
+    // The texels are no longer the file's (flipped, maybe tiled): no source path, so a
+    // writer cannot name the file in their place.
+    Ok(TextureDesc::Image { name, path: String::new(), width: w, height: h, texels })
 }
 
 /// A whole number close to `x`, if there is one.
