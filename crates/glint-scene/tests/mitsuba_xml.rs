@@ -221,6 +221,16 @@ fn rectangle_and_disk_normals_map_onto_mitsubas_plus_z() {
     // Mitsuba's +z normal turned by −90° about x points along +y.
     close(normal(m), Vec3::Y);
     close(normal(shape_of(&s, 2).2), Vec3::NEG_Z);
+    // The mirrored (flipped) rectangle is a valid placement for the scene compiler.
+    glint_core::scene::compile(&s).unwrap();
+}
+
+#[test]
+fn a_scene_without_a_sensor_is_refused() {
+    let e = parse_mitsuba("<scene version=\"3.0.0\">\n</scene>", "scene.xml", Path::new(".")).unwrap_err();
+    assert!(e.message.contains("no <sensor>"), "{e}");
+    let e = parse_mitsuba("<scene>\n</scene>", "scene.xml", Path::new(".")).unwrap_err();
+    assert!(e.message.contains("'version'"), "{e}");
 }
 
 #[test]
