@@ -18,6 +18,8 @@ pub enum SceneFormat {
     CourseJson,
     /// "The Ray Tracer Challenge" YAML scenes.
     ChallengeYaml,
+    /// Mitsuba 3 XML (`<scene version="…">`).
+    Mitsuba,
     /// A triangle-mesh file (OBJ, PLY, glTF) shown by a camera fitted to it and two lights.
     Mesh,
 }
@@ -43,7 +45,7 @@ pub fn detect(text: &str, path: &Path) -> SceneFormat {
         .find(|l| !l.is_empty() && !l.starts_with('#') && !l.starts_with("//"))
         .unwrap_or("");
     if first_line.starts_with('<') {
-        return SceneFormat::CourseXml;
+        return if crate::mitsuba::is_mitsuba(body) { SceneFormat::Mitsuba } else { SceneFormat::CourseXml };
     }
     if first_line.starts_with('{') && !first_line.contains('}')
         || body.trim_start().starts_with('{') && path_ext(path) == "json"
@@ -54,6 +56,7 @@ pub fn detect(text: &str, path: &Path) -> SceneFormat {
         return SceneFormat::ChallengeYaml;
     }
     match path_ext(path).as_str() {
+        "xml" if crate::mitsuba::is_mitsuba(body) => SceneFormat::Mitsuba,
         "xml" => SceneFormat::CourseXml,
         "json" => SceneFormat::CourseJson,
         "yml" | "yaml" => SceneFormat::ChallengeYaml,
@@ -84,6 +87,10 @@ pub fn load_any(path: &Path) -> Result<Loaded, SceneError> {
         SceneFormat::Native => (crate::native::load_scene(path)?, Vec::new()),
         SceneFormat::ChallengeYaml => crate::challenge::parse_challenge(&text, &name)?,
         SceneFormat::Mesh => load_mesh_scene(path)?,
+        SceneFormat::Mitsuba => {
+            let loaded = crate::mitsuba::load_text(path, &text)?;
+            (loaded.scene, loaded.warnings)
+        }
         SceneFormat::CourseXml | SceneFormat::CourseJson => {
             let loaded = crate::course::load_text(path, &text, format, crate::course::CourseOptions::default())?;
             (loaded.scene, loaded.warnings)
@@ -113,5 +120,8 @@ mod tests {
         assert_eq!(detect("camera { eye [0 0 5] }", p), SceneFormat::Native);
         assert_eq!(detect("<scenefile>", Path::new("x.json")), SceneFormat::CourseXml);
         assert_eq!(detect("sphere {}", Path::new("x.glint")), SceneFormat::Native);
+        let mitsuba = "<?xml version=\"1.0\"?>\n<!-- c -->\n<scene version=\"3.0.0\">";
+        assert_eq!(detect(mitsuba, p), SceneFormat::Mitsuba);
+        assert_eq!(detect("<scenefile>", Path::new("x.xml")), SceneFormat::CourseXml);
     }
 }

@@ -1,7 +1,7 @@
 //! glint-scene: scene files in and images out, for the glint renderer.
 //!
 //! Every importer produces a [`glint_core::desc::SceneDesc`]; this crate owns the files
-//! (the native `.glint` format, the CS123/CS1230 course formats and texture images) so that glint-core never touches I/O.
+//! (the native `.glint` format, the CS123/CS1230 course formats, Mitsuba 3 XML and texture images) so that glint-core never touches I/O.
 
 pub mod challenge;
 pub mod convert;
@@ -10,6 +10,7 @@ pub mod detect;
 pub mod error;
 pub mod image_out;
 pub mod mesh;
+pub mod mitsuba;
 pub mod native;
 pub mod source;
 pub mod texture_io;

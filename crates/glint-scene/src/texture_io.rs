@@ -28,9 +28,9 @@ pub enum TextureError {
         /// The operating system's reason.
         source: std::io::Error,
     },
-    /// The file is not a PNG or JPEG image.
+    /// The file is not an image of a format the caller accepts.
     #[error(
-        "texture file '{}' is {found}; textures must be PNG or JPEG images",
+        "texture file '{}' is {found}; textures must be {allowed} images",
         path.display()
     )]
     UnsupportedFormat {
@@ -38,6 +38,8 @@ pub enum TextureError {
         path: PathBuf,
         /// What it was recognised as ("an OpenEXR image", "not a recognised image").
         found: String,
+        /// The formats that would have been accepted ("PNG or JPEG").
+        allowed: &'static str,
     },
     /// The image is larger than [`MAX_TEXTURE_SIDE`] on a side.
     #[error(
@@ -87,21 +89,39 @@ pub fn load_texture(name: &str, path: &Path) -> Result<TextureDesc, TextureError
 ///
 /// As [`load_texture`].
 pub fn load_texture_encoded(name: &str, path: &Path, transfer: Transfer) -> Result<TextureDesc, TextureError> {
+    load_image(name, path, transfer, false)
+}
+
+/// Loads a PNG or JPEG file (decoded by `transfer`, as [`load_texture_encoded`] does) or
+/// an OpenEXR or Radiance HDR (`.hdr`, RGBE) file, whose values are linear already and
+/// are kept as they are, above 1 included: for environment maps and Mitsuba bitmaps.
+///
+/// # Errors
+///
+/// As [`load_texture`], with OpenEXR and Radiance HDR accepted.
+pub fn load_texture_hdr(name: &str, path: &Path, transfer: Transfer) -> Result<TextureDesc, TextureError> {
+    load_image(name, path, transfer, true)
+}
+
+/// The loader behind the public functions; `float_formats` admits EXR and HDR files.
+fn load_image(name: &str, path: &Path, transfer: Transfer, float_formats: bool) -> Result<TextureDesc, TextureError> {
     let open = || {
         ImageReader::open(path)
             .and_then(ImageReader::with_guessed_format)
             .map_err(|source| TextureError::Io { path: path.to_path_buf(), source })
     };
     let reader = open()?;
-    match reader.format() {
-        Some(ImageFormat::Png | ImageFormat::Jpeg) => {}
+    let float_image = match reader.format() {
+        Some(ImageFormat::Png | ImageFormat::Jpeg) => false,
+        Some(ImageFormat::OpenExr | ImageFormat::Hdr) if float_formats => true,
         other => {
             return Err(TextureError::UnsupportedFormat {
                 path: path.to_path_buf(),
                 found: other.map_or_else(|| "not a recognised image".to_owned(), |f| format!("a {f:?} image")),
+                allowed: if float_formats { "PNG, JPEG, OpenEXR or Radiance HDR" } else { "PNG or JPEG" },
             });
         }
-    }
+    };
     // Read the header first so an absurd size is reported as such, before any decoding.
     let decode_error = |source| TextureError::Decode { path: path.to_path_buf(), source };
     let (width, height) = reader.into_dimensions().map_err(decode_error)?;
@@ -119,8 +139,13 @@ pub fn load_texture_encoded(name: &str, path: &Path, transfer: Transfer) -> Resu
         path: path.display().to_string(),
         width: image.width(),
         height: image.height(),
-        texels: decoded_texels(&image, transfer),
+        texels: if float_image { linear_texels(&image) } else { decoded_texels(&image, transfer) },
     })
+}
+
+/// The pixels of a floating-point image as they are stored (linear, unclamped).
+fn linear_texels(image: &DynamicImage) -> Vec<Vec3> {
+    image.to_rgb32f().pixels().map(|p| Vec3::new(p[0], p[1], p[2])).collect()
 }
 
 /// Decodes every pixel through the inverse of `transfer`, rows top to bottom as the
