@@ -7,12 +7,13 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use glint_core::desc::{AdaptiveDesc, FilterKind, SamplePattern, SceneDesc};
+use glint_core::desc::{AdaptiveDesc, FilterKind, IntegratorDesc, PathDesc, SamplePattern, SamplerKind, SceneDesc};
 use glint_core::film::Image;
 use glint_core::film::Transfer;
 use glint_core::render::{RenderError, render_progressive};
 use glint_core::scene::compile;
 use glint_scene::image_out::{OutputFormat, write_image};
+use glint_scene::native::MAX_SPP;
 use indicatif::{ProgressBar, ProgressStyle};
 
 /// glint — a ray tracer faithful to the classic Whitted model.
@@ -74,12 +75,34 @@ struct RenderArgs {
     /// Image height in pixels (overrides the scene).
     #[arg(long)]
     height: Option<u32>,
-    /// Samples per pixel along each axis: N gives an N×N grid per pixel (overrides the scene).
+    /// Samples per pixel along each axis: N gives an N×N grid per pixel (overrides the
+    /// scene, including a total set by its `spp`; --spp wins when both are given).
     #[arg(long)]
     samples: Option<u32>,
-    /// Maximum recursion depth of reflected and refracted rays (overrides the scene).
-    #[arg(long)]
+    /// Samples per pixel in total, for any integrator (overrides the scene and --samples;
+    /// a count that is not a square takes Sobol positions).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SPP)))]
+    spp: Option<u32>,
+    /// Light-transport algorithm (overrides the scene). `path` keeps the scene's path
+    /// settings when it is already path traced, else takes Mitsuba's defaults: unlimited
+    /// depth, Russian roulette from depth 5, Sobol samples.
+    #[arg(long, value_enum)]
+    integrator: Option<IntegratorArg>,
+    /// Depth limit (overrides the scene). It sets the Whitted integrator's maximum number
+    /// of reflection/refraction bounces after the primary ray and, when the integrator is
+    /// path, also the longest path, counted as Mitsuba counts it: 1 = emitters seen
+    /// directly, 2 = direct lighting, each further step one more bounce. -1 or
+    /// `unlimited` = no limit (path integrator only).
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = parse_max_depth)]
     max_depth: Option<u32>,
+    /// Path depth from which Russian roulette may end a path (path integrator only;
+    /// overrides the scene).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    rr_depth: Option<u32>,
+    /// Sequence that draws the path tracer's random numbers (path integrator only;
+    /// overrides the scene).
+    #[arg(long, value_enum)]
+    sampler: Option<SamplerArg>,
     /// Where samples go inside each pixel (overrides the scene).
     #[arg(long, value_enum)]
     pattern: Option<PatternArg>,
@@ -125,12 +148,37 @@ enum PatternArg {
 }
 
 #[derive(Clone, Copy, ValueEnum)]
+enum IntegratorArg {
+    /// The lecture's recursive model: Phong lighting with shadow rays, mirror
+    /// reflection and refraction.
+    Whitted,
+    /// Unidirectional path tracing: global illumination.
+    Path,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum SamplerArg {
+    /// Owen-scrambled Sobol points.
+    Sobol,
+    /// Independent uniform random numbers.
+    Independent,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
 enum FilterArg {
     Box,
     Tent,
     Gaussian,
     Mitchell,
     Lanczos,
+}
+
+/// A depth for --max-depth: a whole number, or -1 / `unlimited` for `u32::MAX`.
+fn parse_max_depth(text: &str) -> Result<u32, String> {
+    match text.trim() {
+        "-1" | "unlimited" => Ok(u32::MAX),
+        n => n.parse::<u32>().map_err(|_| format!("expected a whole number 0 or more, -1 or 'unlimited', found '{n}'")),
+    }
 }
 
 fn parse_adaptive(text: &str) -> Result<AdaptiveDesc, String> {
@@ -200,7 +248,7 @@ fn run_render(args: &RenderArgs) -> Result<(), Failure> {
         })?,
     };
     let mut desc = load(args.scene.as_deref())?;
-    apply_overrides(&mut desc, args);
+    apply_overrides(&mut desc, args)?;
     let scene = compile(&desc)?;
 
     let cancel = Arc::new(AtomicBool::new(false));
@@ -313,12 +361,62 @@ fn load(path: Option<&Path>) -> Result<SceneDesc, Failure> {
     }
 }
 
-fn apply_overrides(desc: &mut SceneDesc, args: &RenderArgs) {
+/// Applies the command line's settings on top of the scene's.
+///
+/// # Errors
+///
+/// A message when a flag does not apply to the integrator that will render: an
+/// unlimited --max-depth, --rr-depth or --sampler with the Whitted integrator.
+fn apply_overrides(desc: &mut SceneDesc, args: &RenderArgs) -> Result<(), String> {
     let s = &mut desc.settings;
     s.width = args.width.unwrap_or(s.width);
     s.height = args.height.unwrap_or(s.height);
-    s.samples_per_axis = args.samples.unwrap_or(s.samples_per_axis);
-    s.max_depth = args.max_depth.unwrap_or(s.max_depth);
+    if let Some(samples) = args.samples {
+        s.samples_per_axis = samples;
+        // An explicit grid replaces the scene's total, or the flag would do nothing.
+        s.spp = None;
+    }
+    s.spp = args.spp.or(s.spp);
+    match (args.integrator, s.integrator) {
+        (Some(IntegratorArg::Whitted), _) => s.integrator = IntegratorDesc::Whitted,
+        (Some(IntegratorArg::Path), IntegratorDesc::Whitted) => {
+            s.integrator = IntegratorDesc::Path(PathDesc::default())
+        }
+        (Some(IntegratorArg::Path), IntegratorDesc::Path(_)) | (None, _) => {}
+    }
+    let whitted_only = |flag: &str| {
+        format!("{flag} applies only to the path integrator; add --integrator path or render a path-traced scene")
+    };
+    match &mut s.integrator {
+        IntegratorDesc::Path(path) => {
+            if let Some(depth) = args.max_depth {
+                path.max_depth = depth;
+                // The Whitted depth keeps its finite value; an unlimited one would recurse forever.
+                if depth != u32::MAX {
+                    s.max_depth = depth;
+                }
+            }
+            path.rr_depth = args.rr_depth.unwrap_or(path.rr_depth);
+            if let Some(sampler) = args.sampler {
+                path.sampler = match sampler {
+                    SamplerArg::Sobol => SamplerKind::Sobol,
+                    SamplerArg::Independent => SamplerKind::Independent,
+                };
+            }
+        }
+        IntegratorDesc::Whitted => {
+            if args.max_depth == Some(u32::MAX) {
+                return Err(whitted_only("an unlimited --max-depth (the Whitted integrator needs a finite depth)"));
+            }
+            s.max_depth = args.max_depth.unwrap_or(s.max_depth);
+            if args.rr_depth.is_some() {
+                return Err(whitted_only("--rr-depth"));
+            }
+            if args.sampler.is_some() {
+                return Err(whitted_only("--sampler"));
+            }
+        }
+    }
     s.seed = args.seed.unwrap_or(s.seed);
     s.adaptive = args.adaptive.or(s.adaptive);
     s.filter.radius = args.filter_radius.unwrap_or(s.filter.radius);
@@ -339,6 +437,7 @@ fn apply_overrides(desc: &mut SceneDesc, args: &RenderArgs) {
             FilterArg::Lanczos => FilterKind::Lanczos,
         };
     }
+    Ok(())
 }
 
 fn progress_bar(quiet: bool) -> ProgressBar {
@@ -362,4 +461,88 @@ fn peak_memory() -> Option<String> {
     let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
     let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(format!("{:.1} MiB", kib / 1024.0))
+}
+
+#[cfg(test)]
+mod tests {
+    use glint_core::desc::RenderSettings;
+
+    use super::*;
+
+    /// The scene after `glint render <flags>` applied its overrides to `desc`.
+    fn overridden(desc: &SceneDesc, flags: &[&str]) -> Result<SceneDesc, String> {
+        let cli = Cli::try_parse_from(["glint", "render"].iter().chain(flags)).map_err(|e| e.to_string())?;
+        let Command::Render(args) = cli.command else { unreachable!("render was given") };
+        let mut desc = desc.clone();
+        apply_overrides(&mut desc, &args)?;
+        Ok(desc)
+    }
+
+    fn path_scene(path: PathDesc) -> SceneDesc {
+        let mut desc = SceneDesc::default();
+        desc.settings.integrator = IntegratorDesc::Path(path);
+        desc
+    }
+
+    #[test]
+    fn integrator_path_keeps_the_scenes_path_settings_or_takes_the_defaults() {
+        let whitted = SceneDesc::default();
+        let s = overridden(&whitted, &["--integrator", "path"]).unwrap().settings;
+        assert_eq!(s.integrator, IntegratorDesc::Path(PathDesc::default()));
+        let own = PathDesc { max_depth: 4, rr_depth: 2, sampler: SamplerKind::Independent };
+        let s = overridden(&path_scene(own), &["--integrator", "path"]).unwrap().settings;
+        assert_eq!(s.integrator, IntegratorDesc::Path(own));
+        let s = overridden(&path_scene(own), &["--integrator", "whitted"]).unwrap().settings;
+        assert_eq!(s.integrator, IntegratorDesc::Whitted);
+        assert_eq!(overridden(&path_scene(own), &[]).unwrap().settings.integrator, IntegratorDesc::Path(own));
+    }
+
+    #[test]
+    fn max_depth_sets_whitted_and_path_depths() {
+        let s = overridden(&SceneDesc::default(), &["--max-depth", "3"]).unwrap().settings;
+        assert_eq!((s.max_depth, s.integrator), (3, IntegratorDesc::Whitted));
+        let s = overridden(&SceneDesc::default(), &["--integrator", "path", "--max-depth", "7"]).unwrap().settings;
+        assert_eq!(s.max_depth, 7);
+        assert_eq!(s.integrator, IntegratorDesc::Path(PathDesc { max_depth: 7, ..PathDesc::default() }));
+        for unlimited in ["-1", "unlimited"] {
+            let scene = path_scene(PathDesc { max_depth: 3, ..PathDesc::default() });
+            let s = overridden(&scene, &["--max-depth", unlimited]).unwrap().settings;
+            assert_eq!(s.integrator, IntegratorDesc::Path(PathDesc::default()), "{unlimited}");
+            assert_eq!(s.max_depth, RenderSettings::default().max_depth, "the Whitted depth stays finite");
+        }
+        let err = overridden(&SceneDesc::default(), &["--max-depth", "-1"]).unwrap_err();
+        assert!(err.contains("only to the path integrator"), "{err}");
+        assert!(overridden(&SceneDesc::default(), &["--max-depth", "-2"]).is_err());
+    }
+
+    #[test]
+    fn rr_depth_and_sampler_need_the_path_integrator() {
+        let flags = ["--integrator", "path", "--rr-depth", "9", "--sampler", "independent"];
+        let s = overridden(&SceneDesc::default(), &flags).unwrap().settings;
+        assert_eq!(
+            s.integrator,
+            IntegratorDesc::Path(PathDesc { rr_depth: 9, sampler: SamplerKind::Independent, ..PathDesc::default() })
+        );
+        for flags in [["--rr-depth", "9"], ["--sampler", "sobol"]] {
+            let err = overridden(&SceneDesc::default(), &flags).unwrap_err();
+            assert!(err.contains(&format!("{} applies only to the path integrator", flags[0])), "{err}");
+        }
+        assert!(overridden(&SceneDesc::default(), &["--integrator", "path", "--rr-depth", "0"]).is_err());
+    }
+
+    #[test]
+    fn spp_overrides_for_any_integrator_and_samples_still_counts() {
+        let s = overridden(&SceneDesc::default(), &["--spp", "37"]).unwrap().settings;
+        assert_eq!((s.spp, s.integrator), (Some(37), IntegratorDesc::Whitted));
+        let mut scene = path_scene(PathDesc::default());
+        scene.settings.spp = Some(64);
+        let s = overridden(&scene, &["--samples", "3"]).unwrap().settings;
+        assert_eq!((s.samples_per_axis, s.spp), (3, None));
+        let s = overridden(&scene, &["--samples", "3", "--spp", "5"]).unwrap().settings;
+        assert_eq!((s.samples_per_axis, s.spp), (3, Some(5)));
+        let s = overridden(&scene, &[]).unwrap().settings;
+        assert_eq!(s.spp, Some(64));
+        assert!(overridden(&scene, &["--spp", "0"]).is_err());
+        assert!(overridden(&scene, &["--spp", "1048577"]).is_err());
+    }
 }

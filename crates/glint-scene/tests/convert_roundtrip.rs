@@ -6,8 +6,9 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 use glam::{Vec2, Vec3};
 use glint_core::desc::{
-    AdaptiveDesc, AreaShape, CameraDesc, FilterDesc, FilterKind, LightDesc, MaterialDesc, NodeDesc, NodeKind,
-    RenderSettings, SamplePattern, SceneDesc, ShapeDesc, TextureDesc, Transfer, TransformOp,
+    AdaptiveDesc, AreaShape, BsdfDesc, CameraDesc, ColorParam, EnvironmentDesc, FilterDesc, FilterKind, IntegratorDesc,
+    LightDesc, MaterialDesc, NodeDesc, NodeKind, PathDesc, RenderSettings, SamplePattern, SamplerKind, ScalarParam,
+    SceneDesc, ShapeDesc, TextureDesc, Transfer, TransformOp,
 };
 use glint_core::render::render;
 use glint_core::scene::compile;
@@ -117,8 +118,8 @@ fn everything(texture: &Path) -> SceneDesc {
         filter: FilterDesc { kind: FilterKind::Gaussian, radius: 1.25 },
         adaptive: Some(AdaptiveDesc { min_samples: 2, max_samples: 32, threshold: 0.005 }),
         seed: 77,
-        integrator: glint_core::desc::IntegratorDesc::Whitted,
-        spp: None,
+        integrator: IntegratorDesc::Path(PathDesc { max_depth: 13, rr_depth: 7, sampler: SamplerKind::Independent }),
+        spp: Some(37),
     };
     let camera = CameraDesc {
         eye: Vec3::new(0.3, 2.0, 9.5),
@@ -165,6 +166,14 @@ fn everything(texture: &Path) -> SceneDesc {
             attenuation: Vec3::new(0.5, 0.0, 0.1),
             samples: 1,
         },
+        LightDesc::Environment(EnvironmentDesc {
+            radiance: Vec3::new(0.7, 1.0 / 3.0, 2.5),
+            texture: Some(1),
+            transform: vec![
+                TransformOp::Rotate { axis: Vec3::new(0.0, 1.0, 0.1), degrees: -47.5 },
+                TransformOp::Scale(Vec3::new(-1.0, 1.0, 1.0)),
+            ],
+        }),
     ];
     let textures = vec![
         TextureDesc::Checker { name: "checks".into(), even: Vec3::ONE, odd: Vec3::ZERO, cells: Vec2::new(3.0, 5.0) },
@@ -188,12 +197,63 @@ fn everything(texture: &Path) -> SceneDesc {
             texture: Some(1),
             blend: 0.4,
             texture_repeat: Vec2::new(2.0, 0.5),
-            bsdf: None,
-            emission: Vec3::ZERO,
-            two_sided: true,
+            bsdf: Some(BsdfDesc::Plastic {
+                diffuse: ColorParam { value: Vec3::new(0.6, 0.2, 0.1), texture: Some(1) },
+                int_ior: 1.49,
+                ext_ior: 1.000277,
+                specular: Vec3::splat(0.7),
+                alpha: ScalarParam { value: 0.15, texture: Some(0) },
+                nonlinear: true,
+            }),
+            emission: Vec3::new(0.1, 2.0, 17.5),
+            two_sided: false,
         },
         MaterialDesc { name: "plain".into(), texture: Some(0), diffuse: Vec3::splat(0.5), ..MaterialDesc::default() },
         MaterialDesc { name: String::new(), ..MaterialDesc::default() },
+        MaterialDesc {
+            name: "rough gold".into(),
+            bsdf: Some(BsdfDesc::Conductor {
+                eta: Vec3::new(0.143, 0.3749, 1.4424),
+                k: Vec3::new(3.983, 2.3857, 1.6032),
+                specular: ColorParam { value: Vec3::new(0.9, 0.95, 1.0), texture: Some(0) },
+                alpha: ScalarParam { value: 0.3, texture: Some(1) },
+            }),
+            ..MaterialDesc::default()
+        },
+        MaterialDesc {
+            name: "glass".into(),
+            bsdf: Some(BsdfDesc::Dielectric {
+                int_ior: 1.5046,
+                ext_ior: 1.33,
+                reflectance: Vec3::new(0.9, 1.0, 0.8),
+                transmittance: Vec3::new(0.5, 0.75, 1.0),
+                alpha: ScalarParam::constant(0.01),
+            }),
+            two_sided: false,
+            ..MaterialDesc::default()
+        },
+        MaterialDesc {
+            name: "pane".into(),
+            bsdf: Some(BsdfDesc::ThinDielectric {
+                int_ior: 1.6,
+                ext_ior: 1.1,
+                reflectance: Vec3::splat(0.3),
+                transmittance: Vec3::new(1.0, 0.9, 0.8),
+            }),
+            ..MaterialDesc::default()
+        },
+        MaterialDesc {
+            name: "lamp".into(),
+            bsdf: Some(BsdfDesc::Diffuse { reflectance: ColorParam::constant(Vec3::new(0.25, 0.5, 0.125)) }),
+            emission: Vec3::new(17.0, 12.0, 4.0),
+            two_sided: false,
+            ..MaterialDesc::default()
+        },
+        MaterialDesc {
+            name: "textured lambert".into(),
+            bsdf: Some(BsdfDesc::Diffuse { reflectance: ColorParam { value: Vec3::ONE, texture: Some(0) } }),
+            ..MaterialDesc::default()
+        },
     ];
     let leaf = |shape, material, transform| NodeDesc {
         transform,
@@ -222,6 +282,11 @@ fn everything(texture: &Path) -> SceneDesc {
                         leaf(ShapeDesc::Cone, 0, vec![]),
                         leaf(ShapeDesc::Disk, 1, vec![TransformOp::Translate(Vec3::Y * 0.01)]),
                         leaf(ShapeDesc::Torus { minor_radius: 0.3 }, 2, vec![]),
+                        leaf(ShapeDesc::Sphere, 4, vec![TransformOp::Translate(Vec3::new(0.0, 2.0, 0.0))]),
+                        leaf(ShapeDesc::Sphere, 5, vec![TransformOp::Scale(Vec3::splat(0.4))]),
+                        leaf(ShapeDesc::Cube, 6, vec![TransformOp::Scale(Vec3::new(1.0, 0.01, 1.0))]),
+                        leaf(ShapeDesc::Rectangle, 7, vec![TransformOp::Translate(Vec3::new(0.0, 3.0, 0.0))]),
+                        leaf(ShapeDesc::Sphere, 8, vec![TransformOp::Translate(Vec3::new(3.0, 0.5, 0.0))]),
                     ]),
                     origin: "code".into(),
                 },
@@ -242,7 +307,13 @@ fn a_scene_using_every_field_round_trips() {
     let back = round_trip(&desc);
     // Clashing and unwritable names are made unique; the rest are kept.
     let names: Vec<&str> = back.materials.iter().map(|m| m.name.as_str()).collect();
-    assert_eq!(names, ["plain", "say \"cheese\"", "plain-2", "material-4"]);
+    assert_eq!(
+        names,
+        ["plain", "say \"cheese\"", "plain-2", "material-4", "rough gold", "glass", "pane", "lamp", "textured lambert"]
+    );
+    // The new fields are really there, not defaults that match by accident.
+    assert!(matches!(back.settings.integrator, IntegratorDesc::Path(PathDesc { max_depth: 13, .. })));
+    assert!(back.lights.iter().any(|l| matches!(l, LightDesc::Environment(_))));
     assert_same_image(&desc, &back);
 }
 
@@ -303,7 +374,7 @@ fn convert_refuses_bad_outputs_and_inputs_without_writing() {
 
 #[test]
 fn solid_and_mesh_examples_round_trip() {
-    for name in ["csg", "blobs", "implicit", "mesh-instances", "motion-blur", "soft-shadows"] {
+    for name in ["csg", "blobs", "implicit", "mesh-instances", "motion-blur", "soft-shadows", "cornell-path"] {
         let path = scenes_dir().join(format!("{name}.glint"));
         let desc = load_scene(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
         // Written beside the examples, so mesh files are named relative to them.
@@ -336,4 +407,23 @@ fn meshes_that_are_not_whole_files_are_refused_with_a_reason() {
     });
     let err = write_scene(&desc, &WriteOptions::default()).unwrap_err().to_string();
     assert!(err.contains("built in code"), "{err}");
+}
+
+#[test]
+fn unlimited_path_depth_round_trips_and_too_deep_ones_are_reported() {
+    let mut desc = default_scene();
+    desc.settings.integrator = IntegratorDesc::Path(PathDesc::default());
+    let back = round_trip(&desc);
+    assert_eq!(back.settings.integrator, IntegratorDesc::Path(PathDesc { max_depth: u32::MAX, ..PathDesc::default() }));
+    let written = write_scene(&desc, &WriteOptions::default()).unwrap();
+    assert!(
+        written.text.contains("integrator path { max_depth -1  rr_depth 5  sampler \"sobol\" }"),
+        "{}",
+        written.text
+    );
+
+    desc.settings.integrator = IntegratorDesc::Path(PathDesc { max_depth: 1 << 30, ..PathDesc::default() });
+    let written = write_scene(&desc, &WriteOptions::default()).unwrap();
+    assert_eq!(written.warnings.len(), 1, "{:?}", written.warnings);
+    assert!(written.warnings[0].contains("written as unlimited"), "{:?}", written.warnings);
 }

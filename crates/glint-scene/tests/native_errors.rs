@@ -237,3 +237,151 @@ fn exponential_use_is_bounded() {
     let e = error(&source);
     assert!(e.message.contains("more than 1000000 objects"), "{e}");
 }
+
+#[test]
+fn integrator_needs_a_known_type_and_its_own_properties() {
+    assert_error(
+        "settings { integrator bdpt { } }",
+        1,
+        23,
+        "unknown integrator type 'bdpt'; expected one of: whitted, path",
+    );
+    assert_error(
+        "settings { integrator }",
+        1,
+        12,
+        "expected an integrator type after 'integrator'; one of: whitted, path",
+    );
+    assert_error("settings { integrator { max_depth 3 } }", 1, 23, "needs its type before the block");
+    assert_error("settings { integrator whitted { max_depth 3 } }", 1, 31, "'integrator whitted' takes no properties");
+    assert_error(
+        "settings { integrator path { depth 3 } }",
+        1,
+        30,
+        "unknown property 'depth' in 'integrator path'; expected one of: max_depth, rr_depth, sampler",
+    );
+    assert_error(
+        "settings { integrator path { sampler \"halton\" } }",
+        1,
+        38,
+        "'sampler' must be \"sobol\" or \"independent\"",
+    );
+    assert_error("settings { integrator path { sampler } }", 1, 30, "(in quotes), found nothing");
+    assert_error("settings { integrator path { rr_depth 0 } }", 1, 39, "'rr_depth' must be a whole number from 1 to");
+    assert_error("settings { integrator path { max_depth 2 max_depth 3 } }", 1, 42, "'max_depth' is set twice");
+    assert_error("settings { integrator whitted integrator path }", 1, 31, "'integrator' is set twice");
+}
+
+#[test]
+fn path_depth_and_spp_out_of_range_name_what_is_allowed() {
+    for (value, column) in [("-2", 40), ("2.5", 40), ("16777217", 40), ("\"forever\"", 40), ("true", 40)] {
+        let source = format!("settings {{ integrator path {{ max_depth {value} }} }}");
+        assert_error(&source, 1, column, "or -1 or \"unlimited\" for no limit");
+    }
+    assert_error("settings { integrator path { max_depth } }", 1, 30, "found nothing");
+    assert_error("settings { spp 0 }", 1, 16, "'spp' must be a whole number from 1 to 1048576");
+    assert_error("settings { spp 1048577 }", 1, 16, "from 1 to 1048576");
+    assert_error("settings { spp 2.5 }", 1, 16, "whole number");
+}
+
+#[test]
+fn bsdf_needs_a_known_type_and_lists_the_kinds() {
+    assert_error(
+        "material \"m\" { bsdf lambert { } }",
+        1,
+        21,
+        "unknown bsdf type 'lambert'; expected one of: diffuse, conductor, dielectric, thin_dielectric, plastic",
+    );
+    assert_error("material \"m\" { bsdf }", 1, 16, "expected a bsdf type after 'bsdf'; one of: diffuse, conductor");
+    assert_error("material \"m\" { bsdf { reflectance 1 } }", 1, 21, "needs its type before the block");
+    assert_error("material \"m\" { bsdf \"diffuse\" }", 1, 21, "'bsdf' takes no values");
+    assert_error("material \"m\" { bsdf diffuse 0.5 }", 1, 29, "'diffuse' takes no values");
+    assert_error("material \"m\" { bsdf diffuse bsdf plastic }", 1, 29, "'bsdf' is set twice");
+}
+
+#[test]
+fn bsdf_properties_are_checked_per_kind() {
+    assert_error(
+        "material \"m\" { bsdf diffuse { roughness 0.1 } }",
+        1,
+        31,
+        "unknown property 'roughness' in 'bsdf diffuse'; expected one of: reflectance, texture",
+    );
+    assert_error(
+        "material \"m\" { bsdf thin_dielectric { roughness 0.1 } }",
+        1,
+        39,
+        "in 'bsdf thin_dielectric'; expected one of: ior, ext_ior, reflectance, transmittance",
+    );
+    assert_error(
+        "material \"m\" { bsdf conductor { ior 1.5 } }",
+        1,
+        33,
+        "expected one of: eta, k, specular, specular_texture, roughness, roughness_texture",
+    );
+    assert_error("material \"m\" { bsdf plastic { ior 1.5 ior 1.4 } }", 1, 39, "'ior' is set twice in 'bsdf plastic'");
+}
+
+#[test]
+fn bsdf_values_out_of_range_are_refused() {
+    assert_error("material \"m\" { bsdf conductor { roughness -0.1 } }", 1, 43, "'roughness' must be 0 or more");
+    assert_error("material \"m\" { bsdf dielectric { roughness -1 } }", 1, 44, "'roughness' must be 0 or more");
+    assert_error("material \"m\" { bsdf dielectric { ior 0 } }", 1, 38, "'ior' must be greater than 0");
+    assert_error("material \"m\" { bsdf plastic { ext_ior -1 } }", 1, 39, "'ext_ior' must be greater than 0");
+    assert_error("material \"m\" { bsdf conductor { eta [0.2 -1 1] } }", 1, 37, "'eta' must not be negative");
+    assert_error("material \"m\" { bsdf conductor { k -1 } }", 1, 35, "'k' must not be negative");
+    assert_error("material \"m\" { bsdf diffuse { reflectance -0.5 } }", 1, 43, "must not be negative");
+    assert_error("material \"m\" { bsdf conductor { eta [1 2] } }", 1, 33, "expected 1 or 3 numbers for 'eta'");
+    assert_error("material \"m\" { bsdf plastic { nonlinear 1 } }", 1, 41, "expected true or false after 'nonlinear'");
+    assert_error(
+        "material \"m\" { bsdf diffuse { texture \"wood\" } }",
+        1,
+        39,
+        "unknown texture 'wood'; no textures are defined",
+    );
+    assert_error(
+        "texture \"t\" checker\nmaterial \"m\" { bsdf conductor { roughness_texture \"r\" } }",
+        2,
+        51,
+        "unknown texture 'r'; known textures: t",
+    );
+}
+
+#[test]
+fn emission_and_two_sided_take_their_types() {
+    assert_error("material \"m\" { emission [1 -1 1] }", 1, 25, "colour 'emission' must not be negative");
+    assert_error("material \"m\" { emission [1 1] }", 1, 16, "expected 1 or 3 numbers for 'emission'");
+    assert_error("material \"m\" { two_sided 0 }", 1, 26, "expected true or false after 'two_sided'");
+}
+
+#[test]
+fn environment_lights_are_checked() {
+    assert_error(
+        "light environment { color 1 }",
+        1,
+        21,
+        "unknown property 'color' in 'light environment'; expected one of: radiance, texture, translate, rotate",
+    );
+    assert_error("light environment { radiance -1 }", 1, 30, "must not be negative");
+    assert_error("light environment { texture \"sky\" }", 1, 29, "unknown texture 'sky'");
+    assert_error(
+        "texture \"c\" checker\nlight environment { texture \"c\" }",
+        2,
+        29,
+        "texture 'c' is not an image; an environment needs an image texture",
+    );
+    assert_error("light environment { rotate [0 0 0] 10 }", 1, 28, "axis must be non-zero");
+    assert_error(
+        "light environment\nlight environment { radiance 2 }",
+        2,
+        1,
+        "at most one environment light; the first is at scene.glint:1:1",
+    );
+}
+
+#[test]
+fn rectangle_is_a_shape_without_an_inside() {
+    assert_error("rectangle 2", 1, 11, "'rectangle' takes no values");
+    assert_error("rectangle { minor_radius 0.3 }", 1, 13, "unknown property 'minor_radius' in 'rectangle'");
+    assert_error("union { rectangle { } sphere { } }", 1, 9, "a rectangle has no inside");
+}

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use glam::{Vec2, Vec3};
-use glint_core::desc::{NodeKind, TextureDesc};
+use glint_core::desc::{EnvironmentDesc, LightDesc, NodeKind, TextureDesc, TransformOp};
 use glint_scene::texture_io::{MAX_TEXTURE_SIDE, srgb_to_linear};
 use glint_scene::{SceneErrorKind, load_scene, parse_scene};
 
@@ -213,7 +213,9 @@ fn every_example_scene_in_the_repository_loads() {
         let path = entry.expect("dir entry").path();
         if path.extension().is_some_and(|e| e == "glint") {
             let scene = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
-            assert!(!scene.objects.is_empty() && !scene.lights.is_empty(), "{}", path.display());
+            // Lit by lights, or (path traced) by emissive surfaces alone.
+            let lit = !scene.lights.is_empty() || scene.materials.iter().any(|m| m.emission.max_element() > 0.0);
+            assert!(!scene.objects.is_empty() && lit, "{}", path.display());
             loaded += 1;
         }
     }
@@ -242,4 +244,28 @@ fn the_full_example_in_the_format_documentation_parses() {
         panic!("the legs are a group");
     };
     assert_eq!(legs.len(), 4);
+}
+
+#[test]
+fn an_environment_light_takes_an_image_texture_and_transform_statements() {
+    let dir = TempDir::new("environment");
+    write_png(&dir, "sky.png");
+    let scene = parse_scene(
+        "texture \"sky\" image { file \"sky.png\" }\n\
+         light environment { texture \"sky\" radiance 2.5 rotate [0 1 0] 30 scale [-1 1 1] }",
+        "inline",
+        &dir.0,
+    )
+    .expect("parses");
+    assert_eq!(
+        scene.lights,
+        vec![LightDesc::Environment(EnvironmentDesc {
+            radiance: Vec3::splat(2.5),
+            texture: Some(0),
+            transform: vec![
+                TransformOp::Rotate { axis: Vec3::Y, degrees: 30.0 },
+                TransformOp::Scale(Vec3::new(-1.0, 1.0, 1.0)),
+            ],
+        })]
+    );
 }

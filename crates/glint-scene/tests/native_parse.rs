@@ -5,8 +5,9 @@ use std::path::Path;
 
 use glam::{Vec2, Vec3};
 use glint_core::desc::{
-    CameraDesc, Features, LightDesc, MaterialDesc, NodeDesc, NodeKind, RenderSettings, SceneDesc, ShapeDesc,
-    TextureDesc, Transfer, TransformOp,
+    BsdfDesc, CameraDesc, ColorParam, EnvironmentDesc, Features, IntegratorDesc, LightDesc, MaterialDesc, NodeDesc,
+    NodeKind, PathDesc, RenderSettings, SamplerKind, ScalarParam, SceneDesc, ShapeDesc, TextureDesc, Transfer,
+    TransformOp,
 };
 use glint_scene::{DEFAULT_SCENE_SOURCE, default_scene, parse_scene};
 
@@ -287,7 +288,7 @@ fn light_defaults() {
 fn every_shape_maps_to_its_desc() {
     let scene = parse(
         "material \"m\" {}\n\
-         sphere { material \"m\" } cube {} cylinder {} cone {} plane {} disk {}\n\
+         sphere { material \"m\" } cube {} cylinder {} cone {} plane {} disk {} rectangle {}\n\
          torus { minor_radius 0.4 } torus",
     );
     let shapes: Vec<ShapeDesc> = scene.objects.iter().map(|n| shape_of(n).0).collect();
@@ -300,6 +301,7 @@ fn every_shape_maps_to_its_desc() {
             ShapeDesc::Cone,
             ShapeDesc::Plane,
             ShapeDesc::Disk,
+            ShapeDesc::Rectangle,
             ShapeDesc::Torus { minor_radius: 0.4 },
             ShapeDesc::Torus { minor_radius: 0.25 },
         ]
@@ -471,4 +473,230 @@ fn the_default_scene_is_a_whitted_composition() {
     let texture = floor.texture.expect("the floor is textured");
     assert!(matches!(scene.textures[texture], TextureDesc::Checker { .. }));
     assert_ne!(floor.texture_repeat, Vec2::ONE, "the floor texture uses repeat");
+}
+
+#[test]
+fn integrator_whitted_and_path_with_every_property() {
+    assert_eq!(parse("settings { integrator whitted }").settings.integrator, IntegratorDesc::Whitted);
+    assert_eq!(RenderSettings::default().integrator, IntegratorDesc::Whitted);
+    let scene = parse("settings { integrator path { max_depth 12 rr_depth 3 sampler \"independent\" } spp 37 }");
+    assert_eq!(
+        scene.settings,
+        RenderSettings {
+            integrator: IntegratorDesc::Path(PathDesc {
+                max_depth: 12,
+                rr_depth: 3,
+                sampler: SamplerKind::Independent
+            }),
+            spp: Some(37),
+            ..RenderSettings::default()
+        }
+    );
+    // Other settings may follow the integrator's block.
+    let scene = parse("settings { integrator path { sampler \"sobol\" } width 64 }");
+    assert_eq!(scene.settings.width, 64);
+    assert_eq!(scene.settings.spp, None);
+}
+
+#[test]
+fn integrator_path_defaults_are_mitsubas() {
+    for source in ["settings { integrator path }", "settings { integrator path { } }"] {
+        let scene = parse(source);
+        assert_eq!(scene.settings.integrator, IntegratorDesc::Path(PathDesc::default()), "{source}");
+    }
+    assert_eq!(PathDesc::default(), PathDesc { max_depth: u32::MAX, rr_depth: 5, sampler: SamplerKind::Sobol });
+}
+
+#[test]
+fn path_max_depth_unlimited_is_minus_one_or_the_word() {
+    let depth = |source: &str| match parse(source).settings.integrator {
+        IntegratorDesc::Path(path) => path.max_depth,
+        IntegratorDesc::Whitted => panic!("expected a path integrator"),
+    };
+    assert_eq!(depth("settings { integrator path { max_depth -1 } }"), u32::MAX);
+    assert_eq!(depth("settings { integrator path { max_depth \"unlimited\" } }"), u32::MAX);
+    assert_eq!(depth("settings { integrator path { max_depth 0 } }"), 0);
+    assert_eq!(depth("settings { integrator path { max_depth 16777216 } }"), 1 << 24);
+}
+
+#[test]
+fn spp_takes_its_whole_range() {
+    assert_eq!(parse("settings { spp 1 }").settings.spp, Some(1));
+    assert_eq!(parse("settings { spp 1048576 }").settings.spp, Some(1 << 20));
+    // `samples` is kept as written; spp overrides it when rendering.
+    let s = parse("settings { samples 4 spp 5 }").settings;
+    assert_eq!((s.samples_per_axis, s.spp), (4, Some(5)));
+}
+
+/// The BSDF of the only material of `source`.
+fn bsdf_of(source: &str) -> BsdfDesc {
+    parse(source).materials[0].bsdf.unwrap_or_else(|| panic!("no bsdf in {source}"))
+}
+
+#[test]
+fn bsdfs_of_every_kind_with_every_property() {
+    let textures = "texture \"a\" checker {} texture \"b\" checker { cells 2 }\n";
+    let with = |material: &str| bsdf_of(&format!("{textures}material \"m\" {{ {material} }}"));
+    assert_eq!(
+        with("bsdf diffuse { reflectance [0.1 0.2 0.3] texture \"b\" }"),
+        BsdfDesc::Diffuse { reflectance: ColorParam { value: Vec3::new(0.1, 0.2, 0.3), texture: Some(1) } }
+    );
+    assert_eq!(
+        with(
+            "bsdf conductor { eta [0.2 0.4 1.4] k [3.9 2.4 1.6] specular 0.9 specular_texture \"a\" \
+             roughness 0.3 roughness_texture \"b\" }"
+        ),
+        BsdfDesc::Conductor {
+            eta: Vec3::new(0.2, 0.4, 1.4),
+            k: Vec3::new(3.9, 2.4, 1.6),
+            specular: ColorParam { value: Vec3::splat(0.9), texture: Some(0) },
+            alpha: ScalarParam { value: 0.3, texture: Some(1) },
+        }
+    );
+    assert_eq!(
+        with("bsdf dielectric { ior 1.33 ext_ior 1.0003 reflectance 0.9 transmittance [0.8 0.9 1] roughness 0.05 }"),
+        BsdfDesc::Dielectric {
+            int_ior: 1.33,
+            ext_ior: 1.0003,
+            reflectance: Vec3::splat(0.9),
+            transmittance: Vec3::new(0.8, 0.9, 1.0),
+            alpha: ScalarParam::constant(0.05),
+        }
+    );
+    assert_eq!(
+        with("bsdf thin_dielectric { ior 1.6 ext_ior 1.1 reflectance 0.5 transmittance [1 0.5 0.25] }"),
+        BsdfDesc::ThinDielectric {
+            int_ior: 1.6,
+            ext_ior: 1.1,
+            reflectance: Vec3::splat(0.5),
+            transmittance: Vec3::new(1.0, 0.5, 0.25),
+        }
+    );
+    assert_eq!(
+        with(
+            "bsdf plastic { diffuse [0.7 0.1 0.1] texture \"a\" ior 1.49 ext_ior 1.2 specular 0.8 roughness 0.1 \
+             roughness_texture \"a\" nonlinear true }"
+        ),
+        BsdfDesc::Plastic {
+            diffuse: ColorParam { value: Vec3::new(0.7, 0.1, 0.1), texture: Some(0) },
+            int_ior: 1.49,
+            ext_ior: 1.2,
+            specular: Vec3::splat(0.8),
+            alpha: ScalarParam { value: 0.1, texture: Some(0) },
+            nonlinear: true,
+        }
+    );
+}
+
+#[test]
+fn bsdf_defaults_of_every_kind() {
+    let grey = ColorParam::constant(Vec3::splat(0.5));
+    let smooth = ScalarParam::constant(0.0);
+    assert_eq!(bsdf_of("material \"m\" { bsdf diffuse }"), BsdfDesc::Diffuse { reflectance: grey });
+    assert_eq!(
+        bsdf_of("material \"m\" { bsdf conductor { } }"),
+        BsdfDesc::Conductor { eta: Vec3::ZERO, k: Vec3::ONE, specular: ColorParam::constant(Vec3::ONE), alpha: smooth }
+    );
+    assert_eq!(
+        bsdf_of("material \"m\" { bsdf dielectric }"),
+        BsdfDesc::Dielectric {
+            int_ior: 1.5,
+            ext_ior: 1.0,
+            reflectance: Vec3::ONE,
+            transmittance: Vec3::ONE,
+            alpha: smooth
+        }
+    );
+    assert_eq!(
+        bsdf_of("material \"m\" { bsdf thin_dielectric }"),
+        BsdfDesc::ThinDielectric { int_ior: 1.5, ext_ior: 1.0, reflectance: Vec3::ONE, transmittance: Vec3::ONE }
+    );
+    assert_eq!(
+        bsdf_of("material \"m\" { bsdf plastic }"),
+        BsdfDesc::Plastic {
+            diffuse: grey,
+            int_ior: 1.5,
+            ext_ior: 1.0,
+            specular: Vec3::ONE,
+            alpha: smooth,
+            nonlinear: false
+        }
+    );
+    assert_eq!(parse("material \"m\"").materials[0].bsdf, None);
+}
+
+#[test]
+fn a_texture_without_a_value_is_used_as_it_is() {
+    let textures = "texture \"t\" checker {}\n";
+    let with = |material: &str| bsdf_of(&format!("{textures}material \"m\" {{ {material} }}"));
+    let textured = ColorParam { value: Vec3::ONE, texture: Some(0) };
+    assert_eq!(with("bsdf diffuse { texture \"t\" }"), BsdfDesc::Diffuse { reflectance: textured });
+    let BsdfDesc::Plastic { diffuse, alpha, .. } = with("bsdf plastic { texture \"t\" roughness_texture \"t\" }")
+    else {
+        panic!("expected plastic");
+    };
+    assert_eq!((diffuse, alpha), (textured, ScalarParam { value: 1.0, texture: Some(0) }));
+    let BsdfDesc::Conductor { specular, .. } = with("bsdf conductor { specular_texture \"t\" }") else {
+        panic!("expected a conductor");
+    };
+    assert_eq!(specular, textured);
+}
+
+#[test]
+fn emission_and_two_sidedness() {
+    let scene = parse("material \"lamp\" { emission [17 12 4] two_sided false bsdf diffuse { reflectance 0 } kd 0.5 }");
+    let lamp = &scene.materials[0];
+    assert_eq!(lamp.emission, Vec3::new(17.0, 12.0, 4.0));
+    assert!(!lamp.two_sided);
+    assert_eq!(lamp.kd, 0.5, "properties after the bsdf block still apply");
+    assert_eq!(lamp.bsdf, Some(BsdfDesc::Diffuse { reflectance: ColorParam::constant(Vec3::ZERO) }));
+    let plain = &parse("material \"m\" { emission 2 }").materials[0];
+    assert_eq!(plain.emission, Vec3::splat(2.0));
+    assert!(plain.two_sided, "two-sided by default");
+    assert_eq!(MaterialDesc::default().emission, Vec3::ZERO);
+}
+
+#[test]
+fn environment_light_with_radiance_and_rotations() {
+    let scene = parse(
+        "light environment { radiance [0.5 0.6 0.7] rotate [0 1 0] 90 rotate [1 0 0] -10 }\n\
+         light point {}",
+    );
+    assert_eq!(
+        scene.lights[0],
+        LightDesc::Environment(EnvironmentDesc {
+            radiance: Vec3::new(0.5, 0.6, 0.7),
+            texture: None,
+            transform: vec![
+                TransformOp::Rotate { axis: Vec3::Y, degrees: 90.0 },
+                TransformOp::Rotate { axis: Vec3::X, degrees: -10.0 },
+            ],
+        })
+    );
+    assert_eq!(
+        parse("light environment").lights,
+        vec![LightDesc::Environment(EnvironmentDesc { radiance: Vec3::ONE, texture: None, transform: vec![] })]
+    );
+}
+
+#[test]
+fn the_path_traced_cornell_example_parses() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/cornell-path.glint");
+    let scene = glint_scene::load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+    let s = &scene.settings;
+    assert_eq!((s.width, s.height, s.spp), (256, 256, Some(64)));
+    assert!(matches!(s.integrator, IntegratorDesc::Path(_)), "{:?}", s.integrator);
+    let lamps: Vec<&MaterialDesc> = scene.materials.iter().filter(|m| m.emission != Vec3::ZERO).collect();
+    assert_eq!(lamps.len(), 1);
+    assert!(scene.materials.iter().all(|m| m.bsdf.is_some()));
+    assert!(scene.lights.is_empty(), "lit by its emissive rectangle alone");
+    let shapes: Vec<ShapeDesc> = scene
+        .objects
+        .iter()
+        .filter_map(|n| match &n.kind {
+            NodeKind::Shape { shape, .. } => Some(*shape),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(shapes, [ShapeDesc::Rectangle, ShapeDesc::Sphere, ShapeDesc::Sphere]);
 }

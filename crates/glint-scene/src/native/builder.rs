@@ -7,7 +7,7 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use glint_core::desc::{MaterialDesc, NodeDesc, SceneDesc};
+use glint_core::desc::{LightDesc, MaterialDesc, NodeDesc, SceneDesc};
 
 use super::args::{self, Result};
 use super::lexer::{Pos, tokenize};
@@ -24,7 +24,7 @@ const MAX_INCLUDE_DEPTH: usize = 32;
 pub const MAX_NODES: usize = 1_000_000;
 
 /// Node names allowed at the top level of a file, for the "expected one of" message.
-const TOP_LEVEL: [&str; 26] = [
+const TOP_LEVEL: [&str; 27] = [
     "settings",
     "camera",
     "texture",
@@ -41,6 +41,7 @@ const TOP_LEVEL: [&str; 26] = [
     "cone",
     "plane",
     "disk",
+    "rectangle",
     "torus",
     "mesh",
     "mesh_instance",
@@ -132,6 +133,8 @@ pub struct Builder {
     /// Where `settings` and `camera` were given, so a second one is refused.
     settings_at: Option<String>,
     camera_at: Option<String>,
+    /// Where the environment light was given, so a second one is refused.
+    environment_at: Option<String>,
     /// The files being read, outermost first: canonical path (if any) and display name.
     include_stack: Vec<(Option<PathBuf>, String)>,
 }
@@ -170,7 +173,11 @@ impl Builder {
                 "light" => {
                     args::no_values(src, node)?;
                     let kind = Self::kind_node(src, node, rest.next(), &lights::KINDS)?;
-                    self.desc.lights.push(lights::light(src, kind)?);
+                    let light = lights::light(src, kind, &self.textures, &self.desc.textures)?;
+                    if matches!(light, LightDesc::Environment(_)) {
+                        Self::only_one_environment(src, node, &mut self.environment_at)?;
+                    }
+                    self.desc.lights.push(light);
                 }
                 "texture" => {
                     let (name, pos) = args::string(src, node, "a texture name")?;
@@ -223,6 +230,22 @@ impl Builder {
         Ok(())
     }
 
+    /// Refuses a second environment light: light from infinitely far away in every
+    /// direction is one map, as in Mitsuba, which allows one environment emitter.
+    fn only_one_environment(src: &Source, node: &Node, first: &mut Option<String>) -> Result<()> {
+        if let Some(first) = first {
+            return Err(src.invalid(
+                node.pos(),
+                format!(
+                    "a scene has at most one environment light; the first is at {first}; \
+                     combine them into one map, or scale it with 'radiance'"
+                ),
+            ));
+        }
+        *first = Some(src.origin(node.pos()));
+        Ok(())
+    }
+
     /// The node after `light`/`texture` that names its kind and holds its block:
     /// `light point { … }` is a `light` node followed by a `point` node.
     pub(super) fn kind_node<'n>(src: &Source, node: &Node, next: Option<&'n Node>, kinds: &[&str]) -> Result<&'n Node> {
@@ -239,7 +262,12 @@ impl Builder {
         let Some(kind) = next else {
             return Err(src.invalid(
                 node.pos(),
-                format!("expected a {} type after '{}'; one of: {expected}", node.name, node.name),
+                format!(
+                    "expected {} {} type after '{}'; one of: {expected}",
+                    article(&node.name),
+                    node.name,
+                    node.name
+                ),
             ));
         };
         if !kinds.contains(&kind.name.as_str()) {
@@ -302,6 +330,11 @@ impl Builder {
         let included = Source { name, dir: parent_dir(&path) };
         self.file(&included, &text, canonical)
     }
+}
+
+/// "an" before a word that starts with a vowel, else "a".
+fn article(word: &str) -> &'static str {
+    if word.starts_with(['a', 'e', 'i', 'o', 'u']) { "an" } else { "a" }
 }
 
 /// The folder relative paths inside `file` start from ("" for a bare file name, meaning

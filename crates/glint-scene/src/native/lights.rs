@@ -1,14 +1,15 @@
-//! `light point|directional|spot|rectangle|disk|sphere { … }`.
+//! `light point|directional|spot|rectangle|disk|sphere|environment { … }`.
 
 use glam::Vec3;
-use glint_core::desc::{AreaShape, LightDesc};
+use glint_core::desc::{AreaShape, EnvironmentDesc, LightDesc, TextureDesc};
 
 use super::args::{self, Result, Seen};
-use super::builder::Source;
+use super::builder::{Registry, Source};
+use super::objects::{TRANSFORMS, transform_op};
 use super::tree::Node;
 
 /// The light types, in the order the documentation lists them.
-pub const KINDS: [&str; 6] = ["point", "directional", "spot", "rectangle", "disk", "sphere"];
+pub const KINDS: [&str; 7] = ["point", "directional", "spot", "rectangle", "disk", "sphere", "environment"];
 
 /// Default stratified samples per axis of an area light (4×4 = 16 shadow rays).
 const AREA_SAMPLES: u32 = 4;
@@ -20,8 +21,13 @@ const NO_FALLOFF: Vec3 = Vec3::X;
 const SPOT_ANGLE: f32 = 30.0;
 const SPOT_PENUMBRA: f32 = 5.0;
 
-/// Builds a light from its kind node (`point { … }`), which [`KINDS`] has already checked.
-pub fn light(src: &Source, kind: &Node) -> Result<LightDesc> {
+/// Builds a light from its kind node (`point { … }`), which [`KINDS`] has already checked;
+/// an environment's texture is looked up by name in `textures`, whose descriptions are
+/// `texture_descs`.
+pub fn light(src: &Source, kind: &Node, textures: &Registry, texture_descs: &[TextureDesc]) -> Result<LightDesc> {
+    if kind.name == "environment" {
+        return environment(src, kind, textures, texture_descs).map(LightDesc::Environment);
+    }
     let allowed: &[&str] = match kind.name.as_str() {
         "point" => &["position", "color", "attenuation"],
         "directional" => &["direction", "color"],
@@ -97,6 +103,49 @@ pub fn light(src: &Source, kind: &Node) -> Result<LightDesc> {
             }
         }
     })
+}
+
+/// `light environment { radiance [r g b]  texture "sky"  rotate [0 1 0] 90 … }`: the
+/// transform statements turn the map, in written order.
+fn environment(
+    src: &Source,
+    kind: &Node,
+    textures: &Registry,
+    texture_descs: &[TextureDesc],
+) -> Result<EnvironmentDesc> {
+    let mut env = EnvironmentDesc { radiance: Vec3::ONE, texture: None, transform: Vec::new() };
+    let mut seen = Seen::default();
+    for prop in kind.children() {
+        if let Some(op) = transform_op(src, prop)? {
+            env.transform.push(op);
+            continue;
+        }
+        seen.once(src, prop, "environment")?;
+        match prop.name.as_str() {
+            "radiance" => env.radiance = args::color(src, prop)?,
+            "texture" => {
+                args::no_block(src, prop)?;
+                let (name, pos) = args::string(src, prop, "a texture name")?;
+                let index = textures.lookup(src, pos, "texture", &name)?;
+                if !matches!(texture_descs.get(index), Some(TextureDesc::Image { .. })) {
+                    return Err(src.invalid(
+                        pos,
+                        format!(
+                            "texture '{name}' is not an image; an environment needs an image texture \
+                             (a latitude-longitude map), as in `texture \"sky\" image {{ file \"sky.exr\" }}`"
+                        ),
+                    ));
+                }
+                env.texture = Some(index);
+            }
+            _ => {
+                let mut allowed = vec!["radiance", "texture"];
+                allowed.extend(TRANSFORMS);
+                return Err(args::unknown(src, prop, "property", "in 'light environment'", &allowed));
+            }
+        }
+    }
+    Ok(env)
 }
 
 /// `[c1 c2 c3]` of `f_att = min(1, 1/(c1 + c2·d + c3·d²))`: none negative and not all

@@ -4,7 +4,8 @@ use glam::{Vec2, Vec3};
 use glint_core::desc::{MaterialDesc, TextureDesc};
 
 use super::args::{self, Result, Seen};
-use super::builder::{Registry, Source};
+use super::bsdf;
+use super::builder::{Builder, Registry, Source};
 use super::tree::Node;
 use crate::error::SceneErrorKind;
 use crate::texture_io;
@@ -12,7 +13,7 @@ use crate::texture_io;
 /// The texture types, in the order the documentation lists them.
 pub const TEXTURE_KINDS: [&str; 2] = ["checker", "image"];
 
-const MATERIAL_PROPERTIES: [&str; 14] = [
+const MATERIAL_PROPERTIES: [&str; 17] = [
     "diffuse",
     "specular",
     "shininess",
@@ -27,13 +28,17 @@ const MATERIAL_PROPERTIES: [&str; 14] = [
     "texture",
     "blend",
     "repeat",
+    "bsdf",
+    "emission",
+    "two_sided",
 ];
 
 /// Builds a material; unset properties keep [`MaterialDesc::default`].
 pub fn material(src: &Source, node: &Node, name: &str, textures: &Registry) -> Result<MaterialDesc> {
     let mut m = MaterialDesc { name: name.to_owned(), ..MaterialDesc::default() };
     let mut seen = Seen::default();
-    for prop in node.children() {
+    let mut rest = node.children().iter();
+    while let Some(prop) = rest.next() {
         seen.once(src, prop, "material")?;
         let coefficient = |prop| args::number_where(src, prop, "0 or more", |x| x >= 0.0);
         match prop.name.as_str() {
@@ -52,6 +57,13 @@ pub fn material(src: &Source, node: &Node, name: &str, textures: &Registry) -> R
                 m.blend = args::number_where(src, prop, "from 0 to 1", |x| (0.0..=1.0).contains(&x))?;
             }
             "repeat" => m.texture_repeat = args::vec2_positive(src, prop)?,
+            "bsdf" => {
+                args::no_values(src, prop)?;
+                let kind = Builder::kind_node(src, prop, rest.next(), &bsdf::KINDS)?;
+                m.bsdf = Some(bsdf::bsdf(src, kind, textures)?);
+            }
+            "emission" => m.emission = args::color(src, prop)?,
+            "two_sided" => m.two_sided = args::boolean(src, prop)?,
             "texture" => {
                 args::no_block(src, prop)?;
                 let (texture, pos) = args::string(src, prop, "a texture name")?;

@@ -5,7 +5,9 @@
 //! node tree, syntax only) and the builder (nodes → [`SceneDesc`], meaning only).
 
 mod args;
+mod bsdf;
 mod builder;
+mod integrator;
 pub mod lexer;
 mod lights;
 mod materials;
@@ -24,7 +26,8 @@ use crate::error::{SceneError, SceneErrorKind};
 use builder::{Builder, Source, parent_dir};
 
 pub use builder::MAX_NODES;
-pub use settings::{MAX_DEPTH, MAX_IMAGE_SIDE, MAX_SAMPLES_PER_AXIS};
+pub use integrator::MAX_PATH_DEPTH;
+pub use settings::{MAX_DEPTH, MAX_IMAGE_SIDE, MAX_SAMPLES_PER_AXIS, MAX_SPP};
 
 /// The text of `scenes/default.glint`, compiled in so that glint can render something
 /// with no files at all.

@@ -9,7 +9,7 @@ use super::solids::{SOLIDS, is_solid};
 use super::tree::{Node, Value, ValueKind};
 
 /// The primitive node names, in the order the documentation lists them.
-const SHAPES: [&str; 7] = ["sphere", "cube", "cylinder", "cone", "plane", "disk", "torus"];
+const SHAPES: [&str; 8] = ["sphere", "cube", "cylinder", "cone", "plane", "disk", "rectangle", "torus"];
 
 /// Transform statements, allowed in every object and in `use`.
 pub const TRANSFORMS: [&str; 4] = ["translate", "rotate", "scale", "matrix"];
@@ -86,6 +86,7 @@ impl Builder {
             "cone" => ShapeDesc::Cone,
             "plane" => ShapeDesc::Plane,
             "disk" => ShapeDesc::Disk,
+            "rectangle" => ShapeDesc::Rectangle,
             _ => ShapeDesc::Torus { minor_radius },
         };
         let material = match material {

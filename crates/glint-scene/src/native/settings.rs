@@ -3,7 +3,8 @@
 use glint_core::desc::{AdaptiveDesc, CameraDesc, FilterKind, RenderSettings, SamplePattern, Transfer};
 
 use super::args::{self, Result, Seen};
-use super::builder::Source;
+use super::builder::{Builder, Source};
+use super::integrator;
 use super::tree::Node;
 
 /// Largest image side accepted; larger images are almost certainly a typo and would
@@ -16,7 +17,10 @@ pub const MAX_SAMPLES_PER_AXIS: u32 = 64;
 /// Deepest recursion accepted for `max_depth`.
 pub const MAX_DEPTH: u32 = 64;
 
-const SETTINGS_PROPERTIES: [&str; 18] = [
+/// Most samples per pixel accepted for `spp` (2²⁰).
+pub const MAX_SPP: u32 = 1 << 20;
+
+const SETTINGS_PROPERTIES: [&str; 20] = [
     "width",
     "height",
     "samples",
@@ -35,6 +39,8 @@ const SETTINGS_PROPERTIES: [&str; 18] = [
     "filter_radius",
     "adaptive",
     "seed",
+    "integrator",
+    "spp",
 ];
 
 const CAMERA_PROPERTIES: [&str; 7] = ["eye", "look_at", "look", "up", "fov", "aperture", "focal_distance"];
@@ -43,9 +49,16 @@ const CAMERA_PROPERTIES: [&str; 7] = ["eye", "look_at", "look", "up", "fov", "ap
 pub fn settings(src: &Source, node: &Node, settings: &mut RenderSettings) -> Result<()> {
     args::no_values(src, node)?;
     let mut seen = Seen::default();
-    for prop in node.children() {
+    let mut rest = node.children().iter();
+    while let Some(prop) = rest.next() {
         seen.once(src, prop, "settings")?;
         match prop.name.as_str() {
+            "integrator" => {
+                args::no_values(src, prop)?;
+                let kind = Builder::kind_node(src, prop, rest.next(), &integrator::KINDS)?;
+                settings.integrator = integrator::integrator(src, kind)?;
+            }
+            "spp" => settings.spp = Some(args::whole(src, prop, 1, MAX_SPP)?),
             "width" => settings.width = args::whole(src, prop, 1, MAX_IMAGE_SIDE)?,
             "height" => settings.height = args::whole(src, prop, 1, MAX_IMAGE_SIDE)?,
             "samples" => {

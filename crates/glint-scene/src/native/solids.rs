@@ -121,13 +121,15 @@ impl Builder {
         let mut children = Vec::new();
         for child in node.children().iter().filter(|c| is_object(&c.name)) {
             match child.name.as_str() {
-                "disk" => {
+                "disk" | "rectangle" => {
                     return Err(src.invalid(
                         child.pos(),
                         format!(
-                            "a disk has no inside, so it cannot be part of '{}'; use a thin cylinder \
+                            "a {} has no inside, so it cannot be part of '{}'; use a thin {} \
                              (a plane works: inside CSG it is the half-space below it)",
-                            node.name
+                            child.name,
+                            node.name,
+                            if child.name == "disk" { "cylinder" } else { "cube" }
                         ),
                     ));
                 }

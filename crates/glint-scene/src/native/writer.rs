@@ -10,10 +10,13 @@ use std::path::{Component, Path, PathBuf};
 
 use glam::{Vec2, Vec3};
 use glint_core::desc::{
-    AreaShape, BlobComponentShape, CameraDesc, FilterKind, LightDesc, MaterialDesc, MeshDesc, NodeDesc, NodeKind,
-    RenderSettings, SamplePattern, SceneDesc, SetOp, ShapeDesc, SolidDesc, TextureDesc, Transfer, TransformOp,
+    AreaShape, BlobComponentShape, BsdfDesc, CameraDesc, ColorParam, FilterKind, IntegratorDesc, LightDesc,
+    MaterialDesc, MeshDesc, NodeDesc, NodeKind, RenderSettings, SamplePattern, SamplerKind, ScalarParam, SceneDesc,
+    SetOp, ShapeDesc, SolidDesc, TextureDesc, Transfer, TransformOp,
 };
 
+use super::integrator::MAX_PATH_DEPTH;
+use super::settings::MAX_SPP;
 use super::tree::MAX_NESTING;
 
 /// Why a scene cannot be written as `.glint`.
@@ -77,7 +80,7 @@ pub fn write_scene(desc: &SceneDesc, options: &WriteOptions) -> Result<Written, 
         w.material(material, name, &texture_names)?;
     }
     for light in &desc.lights {
-        w.light(light)?;
+        w.light(light, &texture_names)?;
     }
     if !desc.lights.is_empty() {
         w.out.push('\n');
@@ -147,8 +150,15 @@ impl Writer {
             format!("filter \"{filter}\""),
             format!("filter_radius {}", num(s.filter.radius, "filter_radius")?),
             format!("seed {}", s.seed),
+            self.integrator(&s.integrator),
         ];
         let mut lines = lines.to_vec();
+        if let Some(spp) = s.spp {
+            if !(1..=MAX_SPP).contains(&spp) {
+                return fail(format!("spp {spp} is outside what a .glint file allows (1 to {MAX_SPP})"));
+            }
+            lines.push(format!("spp {spp}"));
+        }
         if let Some(a) = s.adaptive {
             lines.push(format!(
                 "adaptive [{} {} {}]",
@@ -180,6 +190,8 @@ impl Writer {
             filter: defaults.filter,
             adaptive: defaults.adaptive,
             seed: defaults.seed,
+            integrator: defaults.integrator,
+            spp: defaults.spp,
             ..s.clone()
         };
         if rest != defaults {
@@ -187,6 +199,37 @@ impl Writer {
                 .push(format!("the .glint format cannot hold these render settings yet; they are left out: {rest:?}"));
         }
         Ok(())
+    }
+
+    /// `integrator whitted` or `integrator path { … }`. A depth beyond what a `.glint`
+    /// number holds exactly is written as unlimited, with a warning.
+    fn integrator(&mut self, integrator: &IntegratorDesc) -> String {
+        let IntegratorDesc::Path(path) = integrator else {
+            return "integrator whitted".to_owned();
+        };
+        let max_depth = match path.max_depth {
+            u32::MAX => "-1".to_owned(),
+            d if d <= MAX_PATH_DEPTH => d.to_string(),
+            d => {
+                self.warnings.push(format!(
+                    "path max_depth {d} is beyond the largest a .glint file holds ({MAX_PATH_DEPTH}); \
+                     it is written as unlimited (-1)"
+                ));
+                "-1".to_owned()
+            }
+        };
+        let rr_depth = path.rr_depth.clamp(1, MAX_PATH_DEPTH);
+        if rr_depth != path.rr_depth {
+            self.warnings.push(format!(
+                "path rr_depth {} is outside what a .glint file holds (1 to {MAX_PATH_DEPTH}); it is written as {rr_depth}",
+                path.rr_depth
+            ));
+        }
+        let sampler = match path.sampler {
+            SamplerKind::Sobol => "sobol",
+            SamplerKind::Independent => "independent",
+        };
+        format!("integrator path {{ max_depth {max_depth}  rr_depth {rr_depth}  sampler \"{sampler}\" }}")
     }
 
     fn camera(&mut self, c: &CameraDesc) -> Result<(), WriteError> {
@@ -285,6 +328,10 @@ impl Writer {
             num(m.blend, &what("blend"))?,
             vec2(m.texture_repeat, &what("repeat"))?
         ));
+        if let Some(b) = &m.bsdf {
+            lines.push(bsdf(b, name, textures)?);
+        }
+        lines.push(format!("emission {}  two_sided {}", vec3(m.emission, &what("emission"))?, m.two_sided));
         self.line(0, &format!("material {} {{", quote(name)));
         for l in &lines {
             self.line(1, l);
@@ -308,6 +355,9 @@ impl Writer {
             texture: defaults.texture,
             blend: defaults.blend,
             texture_repeat: defaults.texture_repeat,
+            bsdf: defaults.bsdf,
+            emission: defaults.emission,
+            two_sided: defaults.two_sided,
             ..m.clone()
         };
         if rest != defaults {
@@ -317,21 +367,31 @@ impl Writer {
         Ok(())
     }
 
-    fn light(&mut self, light: &LightDesc) -> Result<(), WriteError> {
-        let line = match *light {
-            LightDesc::Environment(_) => return fail("the .glint format cannot hold environment lights yet"),
-            LightDesc::Point { position, color, attenuation } => format!(
+    fn light(&mut self, light: &LightDesc, textures: &[String]) -> Result<(), WriteError> {
+        let line = match light {
+            LightDesc::Environment(env) => {
+                let what = "environment light";
+                let mut parts = vec![format!("radiance {}", vec3(env.radiance, what)?)];
+                if let Some(texture) = env.texture {
+                    parts.push(format!("texture {}", quote(texture_ref(texture, textures, what)?)));
+                }
+                for op in &env.transform {
+                    parts.push(transform(op, "the environment light")?);
+                }
+                format!("light environment {{ {} }}", parts.join("  "))
+            }
+            &LightDesc::Point { position, color, attenuation } => format!(
                 "light point {{ position {} color {} attenuation {} }}",
                 vec3(position, "light position")?,
                 vec3(color, "light color")?,
                 vec3(attenuation, "light attenuation")?
             ),
-            LightDesc::Directional { direction, color } => format!(
+            &LightDesc::Directional { direction, color } => format!(
                 "light directional {{ direction {} color {} }}",
                 vec3(direction, "light direction")?,
                 vec3(color, "light color")?
             ),
-            LightDesc::Spot { position, direction, color, attenuation, angle_degrees, penumbra_degrees } => format!(
+            &LightDesc::Spot { position, direction, color, attenuation, angle_degrees, penumbra_degrees } => format!(
                 "light spot {{ position {} direction {} color {} attenuation {} angle {} penumbra {} }}",
                 vec3(position, "light position")?,
                 vec3(direction, "light direction")?,
@@ -340,7 +400,7 @@ impl Writer {
                 num(angle_degrees, "light angle")?,
                 num(penumbra_degrees, "light penumbra")?
             ),
-            LightDesc::Area { shape, color, attenuation, samples } => {
+            &LightDesc::Area { shape, color, attenuation, samples } => {
                 let what = "area light";
                 let (kind, place) = match shape {
                     AreaShape::Rectangle { corner, edge_u, edge_v } => (
@@ -565,6 +625,75 @@ impl Writer {
             }
         }
         Ok(())
+    }
+}
+
+/// `bsdf kind { … }` with every parameter written out.
+fn bsdf(b: &BsdfDesc, material: &str, textures: &[String]) -> Result<String, WriteError> {
+    let what = format!("material '{material}' bsdf");
+    let what = what.as_str();
+    // A parameter and, when it has one, its texture: `name value  texture_name "t"`.
+    let color = |name: &str, texture_name: &str, p: &ColorParam| -> Result<String, WriteError> {
+        let mut text = format!("{name} {}", vec3(p.value, what)?);
+        if let Some(t) = p.texture {
+            text.push_str(&format!("  {texture_name} {}", quote(texture_ref(t, textures, what)?)));
+        }
+        Ok(text)
+    };
+    let roughness = |p: &ScalarParam| -> Result<String, WriteError> {
+        let mut text = format!("roughness {}", num(p.value, what)?);
+        if let Some(t) = p.texture {
+            text.push_str(&format!("  roughness_texture {}", quote(texture_ref(t, textures, what)?)));
+        }
+        Ok(text)
+    };
+    let iors = |int_ior: f32, ext_ior: f32| -> Result<String, WriteError> {
+        Ok(format!("ior {}  ext_ior {}", num(int_ior, what)?, num(ext_ior, what)?))
+    };
+    let (kind, parts) = match b {
+        BsdfDesc::Diffuse { reflectance } => ("diffuse", vec![color("reflectance", "texture", reflectance)?]),
+        BsdfDesc::Conductor { eta, k, specular, alpha } => (
+            "conductor",
+            vec![
+                format!("eta {}  k {}", vec3(*eta, what)?, vec3(*k, what)?),
+                color("specular", "specular_texture", specular)?,
+                roughness(alpha)?,
+            ],
+        ),
+        BsdfDesc::Dielectric { int_ior, ext_ior, reflectance, transmittance, alpha } => (
+            "dielectric",
+            vec![
+                iors(*int_ior, *ext_ior)?,
+                format!("reflectance {}  transmittance {}", vec3(*reflectance, what)?, vec3(*transmittance, what)?),
+                roughness(alpha)?,
+            ],
+        ),
+        BsdfDesc::ThinDielectric { int_ior, ext_ior, reflectance, transmittance } => (
+            "thin_dielectric",
+            vec![
+                iors(*int_ior, *ext_ior)?,
+                format!("reflectance {}  transmittance {}", vec3(*reflectance, what)?, vec3(*transmittance, what)?),
+            ],
+        ),
+        BsdfDesc::Plastic { diffuse, int_ior, ext_ior, specular, alpha, nonlinear } => (
+            "plastic",
+            vec![
+                color("diffuse", "texture", diffuse)?,
+                iors(*int_ior, *ext_ior)?,
+                format!("specular {}", vec3(*specular, what)?),
+                roughness(alpha)?,
+                format!("nonlinear {nonlinear}"),
+            ],
+        ),
+    };
+    Ok(format!("bsdf {kind} {{ {} }}", parts.join("  ")))
+}
+
+/// The name a texture index is written under.
+fn texture_ref<'t>(index: usize, textures: &'t [String], what: &str) -> Result<&'t str, WriteError> {
+    match textures.get(index) {
+        Some(name) => Ok(name),
+        None => fail(format!("{what} uses texture {index}, but the scene has {} textures", textures.len())),
     }
 }
 
