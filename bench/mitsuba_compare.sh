@@ -26,6 +26,7 @@
 set -euo pipefail
 
 root="$(cd "$(dirname "$0")/.." && pwd)"
+# shellcheck source=mitsuba/common.sh
 source "$root/bench/mitsuba/common.sh"
 
 scenes="${SCENES:-cornell glass-metal envmap emissive-mesh}"
@@ -95,9 +96,9 @@ for scene in $scenes; do
         # shellcheck disable=SC2206 # GLINT_ARGS is split on purpose
         glint_cmd+=(${GLINT_ARGS:-})
         echo "  glint: ${glint_cmd[*]}" >&2
-        start=$(date +%s.%N)
+        start=$EPOCHREALTIME
         if "${glint_cmd[@]}" >"$out/$scene-glint.log" 2>&1; then
-            g_secs=$(echo "$(date +%s.%N) - $start" | bc)
+            g_secs=$(awk -v a="$start" -v b="$EPOCHREALTIME" 'BEGIN { printf "%.3f", b - a }')
         else
             echo "  glint FAILED on $scene; its output ($out/$scene-glint.log):" >&2
             sed 's/^/    /' "$out/$scene-glint.log" >&2

@@ -24,6 +24,7 @@
 set -euo pipefail
 
 root="$(cd "$(dirname "$0")/.." && pwd)"
+# shellcheck source=mitsuba/common.sh
 source "$root/bench/mitsuba/common.sh"
 
 scene=cornell
@@ -84,12 +85,12 @@ if [[ "$mitsuba_only" != 1 ]]; then
         g="$out/glint-${spp}spp.exr"
         # shellcheck disable=SC2206 # GLINT_ARGS is split on purpose
         cmd=("$glint" render "$mitsuba_dir/$scene.xml" -o "$g" --spp "$spp" --width "$w" --height "$h" -j "$threads" -q ${GLINT_ARGS:-})
-        start=$(date +%s.%N)
+        start=$EPOCHREALTIME
         "${cmd[@]}" >"$out/glint-${spp}spp.log" 2>&1 || {
             sed 's/^/    /' "$out/glint-${spp}spp.log" >&2
             die "glint failed: ${cmd[*]}"
         }
-        secs=$(echo "$(date +%s.%N) - $start" | bc)
+        secs=$(awk -v a="$start" -v b="$EPOCHREALTIME" 'BEGIN { printf "%.3f", b - a }')
         echo "   $secs s" >&2
         glint_args+=(--glint "$g:$secs:$spp")
     done

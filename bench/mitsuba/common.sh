@@ -1,7 +1,8 @@
+# shellcheck shell=bash
 # Shared by bench/mitsuba_compare.sh and bench/mitsuba_speed.sh (sourced, not run).
 # Expects $root (the repository root) to be set.
 
-mitsuba_dir="$root/bench/mitsuba"
+mitsuba_dir="${root:?set root before sourcing common.sh}/bench/mitsuba"
 python="${PYTHON:-python3}"
 # Rendered Mitsuba images are cached here, named by everything that determines them.
 refs="${MITSUBA_REFS:-/work/mitsuba-refs}"

@@ -11,8 +11,8 @@ use crate::sampling::Distribution2D;
 ///
 /// Directions map to the map as Mitsuba's `envmap` does, in the map's own frame
 /// (`env_from_world`): `u = atan2(x, −z)/2π` (mod 1), `v = acos(y)/π`. Texels are the
-/// values at lattice points — column `i` at `u = i/W` (wrapping), row `j` at
-/// `v = j/(H−1)` — interpolated bilinearly between them, as Mitsuba interpolates.
+/// values at lattice points — column `i` at `u = (i + ½)/W` (wrapping), row `j` at
+/// `v = j/(H−1)` — interpolated bilinearly between them, exactly as Mitsuba 3.9 does.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Environment {
     /// Radiance scale (the whole radiance when there is no map).
@@ -23,8 +23,8 @@ pub struct Environment {
     pub height: usize,
     pub env_from_world: Mat3,
     pub world_from_env: Mat3,
-    /// Over the lattice cells `[i/W, (i+1)/W] × [j/(H−1), (j+1)/(H−1)]`, weighted by
-    /// the brightest of each cell's corners times sin θ.
+    /// Over the lattice cells `[(i+½)/W, (i+1½)/W] × [j/(H−1), (j+1)/(H−1)]`, weighted
+    /// by the brightest of each cell's corners times sin θ.
     distribution: Option<Distribution2D>,
     /// Mean luminance over the sphere, for choosing this light among the others.
     mean_luminance: f32,
@@ -105,11 +105,11 @@ impl Environment {
             return self.scale;
         }
         let uv = self.uv(d);
-        let x = uv.x * self.width as f32;
+        let x = (uv.x * self.width as f32 - 0.5).rem_euclid(self.width as f32);
         let y = uv.y * (self.height - 1) as f32;
-        let (i, j) = (x.floor(), y.floor().min((self.height - 2) as f32));
+        let (i, j) = (x.floor().min((self.width - 1) as f32), y.floor().min((self.height - 2) as f32));
         let (fx, fy) = (x - i, y - j);
-        let (i, j) = (i as usize % self.width, j as usize);
+        let (i, j) = (i as usize, j as usize);
         let top = self.texel(i, j).lerp(self.texel(i + 1, j), fx);
         let bottom = self.texel(i, j + 1).lerp(self.texel(i + 1, j + 1), fx);
         self.scale * top.lerp(bottom, fy)
@@ -125,8 +125,8 @@ impl Environment {
             let d = Vec3::new(s * phi.cos(), s * phi.sin(), z);
             return Some((d, self.scale, 1.0 / (4.0 * PI)));
         };
-        let (uv, _) = dist.sample(u);
-        let d = self.direction(uv);
+        let (cell, _) = dist.sample(u);
+        let d = self.direction(Vec2::new(cell.x + self.half_texel(), cell.y));
         // The density of the direction as `pdf` computes it, so that both strategies of
         // MIS agree exactly (the pole loses precision in the round trip).
         let pdf = self.pdf(d);
@@ -141,6 +141,12 @@ impl Environment {
         if sin_theta <= 0.0 {
             return 0.0;
         }
-        dist.density(uv) / (2.0 * PI * PI * sin_theta)
+        let cell = Vec2::new((uv.x - self.half_texel()).rem_euclid(1.0), uv.y);
+        dist.density(cell) / (2.0 * PI * PI * sin_theta)
+    }
+
+    /// Texel centres sit half a texel right of the cell lattice's origin.
+    fn half_texel(&self) -> f32 {
+        0.5 / self.width as f32
     }
 }

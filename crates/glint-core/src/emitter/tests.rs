@@ -59,12 +59,14 @@ fn environment_pdf_integrates_to_one_and_matches_its_samples() {
 fn environment_maps_directions_as_mitsuba_does() {
     let (w, h) = (8, 5);
     let mut texels = vec![Vec3::ZERO; w * h];
-    // Column 2 of row 1 lies at u = 2/8, v = 1/4: θ = 45°, φ = 90°, the direction
-    // (sin θ sin φ, cos θ, −sin θ cos φ) = (0.707, 0.707, 0).
+    // Column 2 of row 1 lies at u = 2.5/8, v = 1/4 (θ = 45°); Mitsuba 3.9 returns 1
+    // there and 0.5 half a texel to either side (values probed from its `envmap`).
     texels[w + 2] = Vec3::ONE;
     let env = Environment::new(Vec3::ONE, texels, w, h, Mat3::IDENTITY);
-    let d = Vec3::new(1.0, 1.0, 0.0).normalize();
-    assert!((env.radiance(d) - Vec3::ONE).length() < 1e-4, "{}", env.radiance(d));
+    for (u, want) in [(2.5f32, 1.0f32), (2.0, 0.5), (3.0, 0.5), (1.5, 0.0)] {
+        let d = env.direction(Vec2::new(u / 8.0, 0.25));
+        assert!((env.radiance(d) - Vec3::splat(want)).length() < 1e-4, "u = {u}/8: {}", env.radiance(d));
+    }
     // The top row is straight up; −z is u = 0.
     assert!((env.uv(Vec3::Y).y).abs() < 1e-6);
     assert!(env.uv(Vec3::NEG_Z).x.abs() < 1e-6);

@@ -98,12 +98,16 @@ pub fn radiance(
         let wo = frame.to_local(wo_world);
         // Dimensions are drawn in the same order at every vertex, light or not, so each
         // has a fixed place in the sequence.
-        let (u_light, u_light2) = (sampler.next_1d(), sampler.next_2d());
+        // One pair chooses the light and the BSDF lobe, one places the light sample,
+        // one the BSDF direction.
+        let choices = sampler.next_2d();
+        let u_light = sampler.next_2d();
+        let u_dir = sampler.next_2d();
         if bsdf.has_non_delta() {
             radiance +=
-                throughput * direct_light(scene, &hit, &bsdf, &frame, wo, (u_light, u_light2), ray.time, counters);
+                throughput * direct_light(scene, &hit, &bsdf, &frame, wo, (choices.x, u_light), ray.time, counters);
         }
-        let (u_lobe, u_dir) = (sampler.next_1d(), sampler.next_2d());
+        let u_lobe = choices.y;
         let Some(sample) = bsdf.sample(wo, u_lobe, u_dir) else { break };
         throughput *= sample.weight;
         eta *= sample.eta;

@@ -80,30 +80,92 @@ fn to_unit(bits: u32) -> f32 {
 /// The first two Sobol dimensions as 32-bit fixed-point fractions: dimension 0 is the
 /// van der Corput sequence (bit reversal); dimension 1 uses the direction numbers of
 /// the primitive polynomial x + 1, `v_j = v_{j−1} ⊕ (v_{j−1} ≫ 1)`.
+///
+/// Dimension 1 is the XOR of the direction numbers of the index's set bits, taken a
+/// byte at a time from precomputed tables (no per-bit loop or branch).
+#[inline]
 pub fn sobol_2d(index: u32) -> (u32, u32) {
-    let x = index.reverse_bits();
-    let (mut y, mut v, mut i) = (0u32, 1u32 << 31, index);
-    while i != 0 {
-        if i & 1 != 0 {
-            y ^= v;
+    let b = index.to_le_bytes();
+    let y =
+        SOBOL_Y[0][b[0] as usize] ^ SOBOL_Y[1][b[1] as usize] ^ SOBOL_Y[2][b[2] as usize] ^ SOBOL_Y[3][b[3] as usize];
+    (index.reverse_bits(), y)
+}
+
+/// Dimension 1 of the Sobol sequence with its bits reversed (least significant bit
+/// first), the form Owen scrambling works on.
+#[inline]
+pub(crate) fn sobol_y_reversed(index: u32) -> u32 {
+    let b = index.to_le_bytes();
+    let t = &SOBOL_Y_REVERSED;
+    t[0][b[0] as usize] ^ t[1][b[1] as usize] ^ t[2][b[2] as usize] ^ t[3][b[3] as usize]
+}
+
+/// [`SOBOL_Y`] with every entry's bits reversed.
+static SOBOL_Y_REVERSED: [[u32; 256]; 4] = {
+    let mut tables = sobol_y_tables();
+    let mut k = 0;
+    while k < 4 {
+        let mut byte = 0;
+        while byte < 256 {
+            tables[k][byte] = tables[k][byte].reverse_bits();
+            byte += 1;
         }
-        v ^= v >> 1;
-        i >>= 1;
+        k += 1;
     }
-    (x, y)
+    tables
+};
+
+/// `SOBOL_Y[k][byte]`: XOR of dimension 1's direction numbers `v_{8k+j}` for each set bit
+/// `j` of `byte`.
+static SOBOL_Y: [[u32; 256]; 4] = sobol_y_tables();
+
+const fn sobol_y_tables() -> [[u32; 256]; 4] {
+    let mut directions = [0u32; 32];
+    let mut v = 1u32 << 31;
+    let mut j = 0;
+    while j < 32 {
+        directions[j] = v;
+        v ^= v >> 1;
+        j += 1;
+    }
+    let mut tables = [[0u32; 256]; 4];
+    let mut k = 0;
+    while k < 4 {
+        let mut byte = 0;
+        while byte < 256 {
+            let mut y = 0;
+            let mut bit = 0;
+            while bit < 8 {
+                if byte & (1 << bit) != 0 {
+                    y ^= directions[8 * k + bit];
+                }
+                bit += 1;
+            }
+            tables[k][byte] = y;
+            byte += 1;
+        }
+        k += 1;
+    }
+    tables
 }
 
 /// Nested uniform (Owen) scrambling by hashing, after Burley, "Practical Hash-based
 /// Owen Scrambling" (JCGT 2020): a Laine–Karras style permutation on the bit-reversed
 /// value, where each output bit depends only on the bits above it.
-pub(crate) fn owen_scramble(x: u32, seed: u32) -> u32 {
-    let mut v = x.reverse_bits();
+fn owen_scramble(x: u32, seed: u32) -> u32 {
+    laine_karras(x.reverse_bits(), seed).reverse_bits()
+}
+
+/// The Laine–Karras permutation of bit-reversed values: each bit is flipped by a hash
+/// of the bits below it (which, reversed, are the bits above it).
+#[inline]
+pub(crate) fn laine_karras(mut v: u32, seed: u32) -> u32 {
     v = v.wrapping_add(seed);
     v ^= v.wrapping_mul(0x6c50_b47c);
     v ^= v.wrapping_mul(0xb82f_1e52);
     v ^= v.wrapping_mul(0xc7af_e638);
     v ^= v.wrapping_mul(0x8d22_f6e6);
-    v.reverse_bits()
+    v
 }
 
 #[cfg(test)]
@@ -155,6 +217,22 @@ mod tests {
         let firsts: Vec<Vec2> = (0..64).map(|px| s.offset(px, 0, 0)).collect();
         let distinct = firsts.iter().filter(|a| firsts.iter().filter(|b| b == a).count() == 1).count();
         assert_eq!(distinct, 64);
+    }
+
+    #[test]
+    fn sobol_tables_match_the_direction_number_recurrence() {
+        for index in [0u32, 1, 2, 3, 255, 256, 12345, 0xdead_beef, u32::MAX] {
+            let (mut y, mut v, mut i) = (0u32, 1u32 << 31, index);
+            while i != 0 {
+                if i & 1 != 0 {
+                    y ^= v;
+                }
+                v ^= v >> 1;
+                i >>= 1;
+            }
+            assert_eq!(sobol_2d(index), (index.reverse_bits(), y), "{index}");
+            assert_eq!(sobol_y_reversed(index), y.reverse_bits());
+        }
     }
 
     #[test]

@@ -6,7 +6,7 @@
 
 use glam::Vec2;
 
-use super::pattern::{owen_scramble, sobol_2d};
+use super::pattern::{laine_karras, sobol_y_reversed};
 use crate::desc::SamplerKind;
 
 /// A 32-bit integer hash with good avalanche (Wellons' "lowbias32", bias ≈ 0.17):
@@ -45,40 +45,75 @@ pub struct PathSampler {
     kind: SamplerKind,
     /// Hash of the pixel and the seed: decorrelates pixels.
     pixel_seed: u32,
-    index: u32,
+    /// The index with its bits reversed, the form Owen scrambling shuffles.
+    index_reversed: u32,
+    /// Hash of the pixel, seed and sample index (the independent sampler's base).
+    sample_seed: u32,
     dimension: u32,
 }
+
+/// Dimensions (counted in draws) that take Sobol points; later ones — the deep bounces
+/// of long paths, whose contributions are small and barely gain from stratification —
+/// take hashed numbers, which cost a fraction of a scrambled point.
+pub const SOBOL_DIMENSIONS: u32 = 24;
 
 impl PathSampler {
     /// The stream of sample `index` of pixel (`px`, `py`).
     pub fn new(kind: SamplerKind, px: u32, py: u32, index: u32, seed: u32) -> Self {
-        Self { kind, pixel_seed: hash32(&[px, py, seed]), index, dimension: 0 }
+        let pixel_seed = hash32(&[px, py, seed]);
+        let sample_seed = mix32(pixel_seed ^ mix32(index));
+        Self { kind, pixel_seed, index_reversed: index.reverse_bits(), sample_seed, dimension: 0 }
     }
 
     /// The next dimension, one number.
     #[inline]
     pub fn next_1d(&mut self) -> f32 {
-        self.next_2d().x
+        let sobol = self.kind == SamplerKind::Sobol && self.dimension < SOBOL_DIMENSIONS;
+        let salt = self.next_salt();
+        match sobol {
+            false => unit_float(mix32(self.sample_seed ^ salt)),
+            true => {
+                let seed = mix32(self.pixel_seed ^ salt);
+                // The scrambled van der Corput sequence over the shuffled index.
+                let shuffled = self.shuffled(seed);
+                unit_float(laine_karras(shuffled, seed ^ 0x68bc_21eb).reverse_bits())
+            }
+        }
+    }
+
+    /// A distinct odd multiple per dimension, to mix with the pixel's or sample's hash.
+    #[inline]
+    fn next_salt(&mut self) -> u32 {
+        let salt = self.dimension.wrapping_mul(0x9e37_79b9).wrapping_add(0x7f4a_7c15);
+        self.dimension += 1;
+        salt
+    }
+
+    /// The sample index under a nested uniform scramble: each pair of dimensions visits
+    /// the sequence in its own order, and power-of-two prefixes stay whole.
+    #[inline]
+    fn shuffled(&self, seed: u32) -> u32 {
+        laine_karras(self.index_reversed, seed).reverse_bits()
     }
 
     /// The next pair of dimensions, stratified together.
     #[inline]
     pub fn next_2d(&mut self) -> Vec2 {
-        let dimension = self.dimension;
-        self.dimension += 1;
-        let seed = hash32(&[self.pixel_seed, dimension]);
-        match self.kind {
-            SamplerKind::Independent => {
-                let h = hash32(&[seed, self.index]);
+        let sobol = self.kind == SamplerKind::Sobol && self.dimension < SOBOL_DIMENSIONS;
+        let salt = self.next_salt();
+        match sobol {
+            false => {
+                let h = mix32(self.sample_seed ^ salt);
                 Vec2::new(unit_float(h), unit_float(mix32(h ^ 0x5bd1_e995)))
             }
-            SamplerKind::Sobol => {
-                let shuffled = owen_scramble(self.index, mix32(seed));
-                let (x, y) = sobol_2d(shuffled);
-                Vec2::new(
-                    unit_float(owen_scramble(x, mix32(seed ^ 0x68bc_21eb))),
-                    unit_float(owen_scramble(y, mix32(seed ^ 0x02e5_be93))),
-                )
+            true => {
+                let seed = mix32(self.pixel_seed ^ salt);
+                let shuffled = self.shuffled(seed);
+                // Owen scrambling works on reversed bits; dimension 0 reversed is the
+                // index itself, dimension 1 comes reversed from its table.
+                let x = laine_karras(shuffled, seed ^ 0x68bc_21eb).reverse_bits();
+                let y = laine_karras(sobol_y_reversed(shuffled), seed ^ 0x02e5_be93).reverse_bits();
+                Vec2::new(unit_float(x), unit_float(y))
             }
         }
     }
