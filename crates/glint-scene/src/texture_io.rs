@@ -69,16 +69,18 @@ pub fn srgb_to_linear(encoded: f32) -> f32 {
     if encoded <= 0.04045 { encoded / 12.92 } else { ((encoded + 0.055) / 1.055).powf(2.4) }
 }
 
-/// Loads a PNG or JPEG file as a linear-RGB texture named `name`, row 0 at the top.
+/// Loads a PNG or JPEG file (sRGB-decoded) or an OpenEXR or Radiance HDR file (linear,
+/// values above 1 kept: environment maps) as a linear-RGB texture named `name`, row 0
+/// at the top.
 ///
 /// Alpha is ignored; 16-bit PNGs keep their precision.
 ///
 /// # Errors
 ///
-/// A [`TextureError`] naming `path` when the file cannot be read, is not PNG or JPEG, is
-/// larger than [`MAX_TEXTURE_SIDE`] on a side, or does not decode.
+/// A [`TextureError`] naming `path` when the file cannot be read, is not one of those
+/// formats, is larger than [`MAX_TEXTURE_SIDE`] on a side, or does not decode.
 pub fn load_texture(name: &str, path: &Path) -> Result<TextureDesc, TextureError> {
-    load_texture_encoded(name, path, Transfer::Srgb)
+    load_texture_hdr(name, path, Transfer::Srgb)
 }
 
 /// Loads a PNG or JPEG file whose stored values are encoded by `transfer`: with

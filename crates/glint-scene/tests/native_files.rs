@@ -190,11 +190,11 @@ fn a_missing_texture_names_the_file_and_the_scene_line() {
 }
 
 #[test]
-fn textures_that_are_not_png_or_jpeg_or_too_large_are_refused() {
+fn textures_that_are_not_images_or_too_large_are_refused() {
     let dir = TempDir::new("bad-texture");
     dir.write("notes.txt", "not an image");
     let e = parse_scene("texture \"t\" image { file \"notes.txt\" }", "inline", &dir.0).expect_err("not an image");
-    assert!(e.message.contains("must be PNG or JPEG"), "{e}");
+    assert!(e.message.contains("must be PNG, JPEG, OpenEXR or Radiance HDR"), "{e}");
     assert_eq!((e.line(), e.column()), (1, 21));
 
     let wide = dir.0.join("wide.png");
