@@ -12,7 +12,7 @@ use glint_core::film::Image;
 use glint_core::film::Transfer;
 use glint_core::render::{RenderError, render_progressive};
 use glint_core::scene::compile;
-use glint_scene::image_out::{OutputFormat, write_image};
+use glint_scene::image_out::{OutputFormat, write_exr_layers, write_image};
 use glint_scene::native::MAX_SPP;
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -123,6 +123,12 @@ struct RenderArgs {
     /// the most), to see where adaptive sampling worked.
     #[arg(long, value_name = "PATH")]
     aov_samples: Option<PathBuf>,
+    /// Auxiliary outputs of the first surface each camera ray meets, written as extra
+    /// layers of the EXR output (for denoisers and debugging): any of `albedo` (the
+    /// surface's main reflectance), `normal` (world-space shading normal) and `depth`
+    /// (distance from the camera), comma-separated. Needs an .exr output.
+    #[arg(long, value_delimiter = ',', value_enum)]
+    aov: Vec<AovArg>,
     /// Write quick subsampled previews to the output first (one sample per 16×16, 8×8,
     /// … block), then the full image, so a viewer watching the file sees it refine.
     #[arg(long)]
@@ -162,6 +168,13 @@ enum SamplerArg {
     Sobol,
     /// Independent uniform random numbers.
     Independent,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum AovArg {
+    Albedo,
+    Normal,
+    Depth,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -247,9 +260,16 @@ fn run_render(args: &RenderArgs) -> Result<(), Failure> {
             )
         })?,
     };
+    if !args.aov.is_empty() && format != OutputFormat::Exr {
+        return Err(Failure::Message(format!(
+            "--aov writes extra layers into an OpenEXR file, but '{}' is not one: use an .exr output",
+            args.output.display()
+        )));
+    }
     let mut desc = load(args.scene.as_deref())?;
     apply_overrides(&mut desc, args)?;
-    let scene = compile(&desc)?;
+    let mut scene = compile(&desc)?;
+    scene.settings.aovs = !args.aov.is_empty();
 
     let cancel = Arc::new(AtomicBool::new(false));
     let handler_flag = Arc::clone(&cancel);
@@ -285,7 +305,20 @@ fn run_render(args: &RenderArgs) -> Result<(), Failure> {
     }
     let (image, stats) = result.map_err(|RenderError::Cancelled| Failure::Cancelled)?;
     let seconds = start.elapsed().as_secs_f64();
-    write_image(&image, &args.output, format, transfer)?;
+    match &stats.aovs {
+        Some(aovs) => {
+            let mut layers = Vec::new();
+            for aov in [AovArg::Albedo, AovArg::Normal, AovArg::Depth].into_iter().filter(|a| args.aov.contains(a)) {
+                layers.push(match aov {
+                    AovArg::Albedo => ("albedo", &["R", "G", "B"][..], &aovs.albedo),
+                    AovArg::Normal => ("normal", &["X", "Y", "Z"][..], &aovs.normal),
+                    AovArg::Depth => ("depth", &["Z"][..], &aovs.depth),
+                });
+            }
+            write_exr_layers(&args.output, &image, &layers)?;
+        }
+        None => write_image(&image, &args.output, format, transfer)?,
+    }
     if let Some(path) = &args.aov_samples {
         write_image(
             &sample_count_image(&image, &stats.samples_per_pixel),

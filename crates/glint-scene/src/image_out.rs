@@ -59,8 +59,9 @@ pub fn write_image(image: &Image, path: &Path, format: OutputFormat, transfer: T
 
 /// Writes a multi-layer OpenEXR file (32-bit float): the first image as the plain
 /// `R`, `G`, `B` channels every viewer shows, the others as named layers (`albedo.R`,
-/// `normal.X`, `depth.Z`, … as `channels` names them). Atomic like [`write_image`].
-pub fn write_exr_layers(path: &Path, beauty: &Image, layers: &[(&str, [&str; 3], &Image)]) -> Result<(), WriteError> {
+/// `normal.X`, `depth.Z`, …): each layer names the channels it keeps, its image's first
+/// channels in order. Atomic like [`write_image`].
+pub fn write_exr_layers(path: &Path, beauty: &Image, layers: &[(&str, &[&str], &Image)]) -> Result<(), WriteError> {
     use exr::prelude::{AnyChannel, AnyChannels, FlatSamples, WritableImage};
     let tmp = temp_sibling(path);
     let channel = |name: String, image: &Image, k: usize| {
@@ -186,14 +187,13 @@ mod tests {
         let beauty = sample_image();
         let mut depth = Image::new(4, 3);
         depth.pixels.iter_mut().enumerate().for_each(|(i, p)| *p = Vec3::splat(i as f32 * 10.0));
-        write_exr_layers(&path, &beauty, &[("depth", ["Z", "Z", "Z"], &depth)]).unwrap_err();
-        write_exr_layers(&path, &beauty, &[("albedo", ["R", "G", "B"], &depth)]).unwrap();
+        write_exr_layers(&path, &beauty, &[("albedo", &["R", "G", "B"], &depth), ("depth", &["Z"], &depth)]).unwrap();
         // The plain colour reads back as the image, the layer by its channel names.
         assert!(read_image(&path).unwrap().mean_abs_diff(&beauty) < 1e-6);
         let read = exr::prelude::read().no_deep_data().largest_resolution_level().all_channels().first_valid_layer();
         let layers = read.all_attributes().from_file(&path).unwrap();
         let names: Vec<String> = layers.layer_data.channel_data.list.iter().map(|c| c.name.to_string()).collect();
-        assert_eq!(names, ["B", "G", "R", "albedo.B", "albedo.G", "albedo.R"]);
+        assert_eq!(names, ["B", "G", "R", "albedo.B", "albedo.G", "albedo.R", "depth.Z"]);
         let albedo_r = &layers.layer_data.channel_data.list[5].sample_data;
         assert_eq!(albedo_r.value_by_flat_index(7).to_f32(), 70.0);
         fs::remove_file(&path).unwrap();
