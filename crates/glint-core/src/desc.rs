@@ -11,7 +11,9 @@ use serde::{Deserialize, Serialize};
 mod physical;
 mod solid;
 
-pub use physical::{BsdfDesc, ColorParam, EnvironmentDesc, IntegratorDesc, PathDesc, SamplerKind, ScalarParam};
+pub use physical::{
+    BsdfDesc, ColorParam, EnvironmentDesc, IntegratorDesc, MicrofacetKind, PathDesc, SamplerKind, ScalarParam,
+};
 pub use solid::{BlobComponentDesc, BlobComponentShape, BlobDesc, ImplicitDesc, SetOp, SolidDesc};
 
 pub use crate::sampling::{FilterKind, SamplePattern};
@@ -267,6 +269,9 @@ pub struct MaterialDesc {
     /// always two-sided.
     #[serde(default = "yes")]
     pub two_sided: bool,
+    /// The microfacet distribution of the BSDF's rough lobes.
+    #[serde(default)]
+    pub microfacet: MicrofacetKind,
 }
 
 fn yes() -> bool {
@@ -294,6 +299,7 @@ impl Default for MaterialDesc {
             bsdf: None,
             emission: Vec3::ZERO,
             two_sided: true,
+            microfacet: MicrofacetKind::Ggx,
         }
     }
 }

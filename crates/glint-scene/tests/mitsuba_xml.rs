@@ -481,15 +481,30 @@ fn integrator_and_film_defaults_follow_mitsuba() {
 }
 
 #[test]
+fn rough_plugins_take_mitsubas_distribution_beckmann_by_default() {
+    use glint_core::desc::MicrofacetKind;
+    for (bsdf, want) in [
+        ("<bsdf type=\"roughplastic\"/>", MicrofacetKind::Beckmann),
+        (
+            "<bsdf type=\"roughconductor\"><string name=\"distribution\" value=\"beckmann\"/></bsdf>",
+            MicrofacetKind::Beckmann,
+        ),
+        ("<bsdf type=\"roughdielectric\"><string name=\"distribution\" value=\"ggx\"/></bsdf>", MicrofacetKind::Ggx),
+        ("<bsdf type=\"twosided\"><bsdf type=\"roughconductor\"/></bsdf>", MicrofacetKind::Beckmann),
+    ] {
+        let s = scene(&format!("<shape type=\"sphere\">{bsdf}</shape>"));
+        assert_eq!(s.materials.last().unwrap().microfacet, want, "{bsdf}");
+    }
+}
+
+#[test]
 fn unsupported_input_is_refused_at_its_line() {
     assert_error("<shape type=\"sphere\">\n<bsdf type=\"principled\"/></shape>", 3, "BSDF type 'principled'");
     assert_error(
-        "<shape type=\"sphere\">\n<bsdf type=\"roughconductor\"><string name=\"distribution\" value=\"beckmann\"/></bsdf></shape>",
+        "<shape type=\"sphere\">\n<bsdf type=\"roughconductor\"><string name=\"distribution\" value=\"phong\"/></bsdf></shape>",
         3,
-        "glint implements only GGX",
+        "'phong' is not a microfacet distribution",
     );
-    // Mitsuba's default distribution is Beckmann, so leaving it out is refused too.
-    assert_error("\n<shape type=\"sphere\"><bsdf type=\"roughplastic\"/></shape>", 3, "only GGX");
     assert_error(
         "\n<shape type=\"obj\"><string name=\"filename\" value=\"no-such-mesh.obj\"/></shape>",
         3,

@@ -22,7 +22,7 @@ use std::f32::consts::FRAC_1_PI;
 use crate::desc::{BsdfDesc, ColorParam, MaterialDesc, ScalarParam};
 use crate::material::NO_TEXTURE;
 use lobes::{cosine_hemisphere, cosine_hemisphere_pdf, mirror};
-use microfacet::Ggx;
+use microfacet::{Ggx, Microfacet};
 
 /// What a [`Bsdf`] record is.
 #[repr(u32)]
@@ -41,6 +41,8 @@ pub enum BsdfKind {
 pub const TWO_SIDED: u32 = 1;
 /// Record flag (plastic): internal scattering saturates colours (Mitsuba's `nonlinear`).
 pub const NONLINEAR: u32 = 2;
+/// Record flag: rough lobes use the Beckmann distribution instead of GGX.
+pub const BECKMANN: u32 = 4;
 
 /// A compiled BSDF with the emission of its material, as flat data.
 ///
@@ -83,7 +85,8 @@ impl Bsdf {
     pub fn compile(desc: &MaterialDesc) -> Self {
         let base = Self {
             kind: BsdfKind::Diffuse,
-            flags: if desc.two_sided { TWO_SIDED } else { 0 },
+            flags: if desc.two_sided { TWO_SIDED } else { 0 }
+                | if desc.microfacet == crate::desc::MicrofacetKind::Beckmann { BECKMANN } else { 0 },
             color: Vec3::ZERO,
             color_texture: NO_TEXTURE,
             texture_scale: Vec3::ONE,
@@ -203,6 +206,11 @@ impl SurfaceBsdf {
         self.record.flags & TWO_SIDED != 0
     }
 
+    /// The distribution of the rough lobes at this point's roughness.
+    fn microfacet(&self) -> Microfacet {
+        Microfacet { alpha: self.alpha, beckmann: self.record.flags & BECKMANN != 0 }
+    }
+
     /// Whether any lobe is smooth enough to take light samples (not only deltas).
     pub fn has_non_delta(&self) -> bool {
         match self.record.kind {
@@ -295,7 +303,7 @@ impl SurfaceBsdf {
                     return Vec3::ZERO;
                 }
                 let m = (wo + wi).normalize();
-                let ggx = Ggx { alpha: self.alpha };
+                let ggx = self.microfacet();
                 let f = fresnel::conductor(wo.dot(m), r.eta, r.k);
                 self.color * f * (ggx.d(m) * ggx.g(wo, wi, m) / (4.0 * wo.z * wi.z))
             }
@@ -304,7 +312,7 @@ impl SurfaceBsdf {
                 let mut f = self.plastic_diffuse(wo, wi);
                 if self.alpha > 0.0 {
                     let m = (wo + wi).normalize();
-                    let ggx = Ggx { alpha: self.alpha };
+                    let ggx = self.microfacet();
                     let fr = fresnel::dielectric(wo.dot(m), eta).0;
                     f += r.specular * (fr * ggx.d(m) * ggx.g(wo, wi, m) / (4.0 * wo.z * wi.z));
                 }
@@ -322,14 +330,14 @@ impl SurfaceBsdf {
                     return 0.0;
                 }
                 let m = (wo + wi).normalize();
-                Ggx { alpha: self.alpha }.visible_pdf(wo, m) / (4.0 * wo.dot(m))
+                self.microfacet().normal_pdf(wo, m) / (4.0 * wo.dot(m))
             }
             BsdfKind::Plastic => {
                 let p_specular = self.plastic_specular_probability(wo);
                 let mut pdf = (1.0 - p_specular) * cosine_hemisphere_pdf(wi);
                 if self.alpha > 0.0 {
                     let m = (wo + wi).normalize();
-                    pdf += p_specular * Ggx { alpha: self.alpha }.visible_pdf(wo, m) / (4.0 * wo.dot(m));
+                    pdf += p_specular * self.microfacet().normal_pdf(wo, m) / (4.0 * wo.dot(m));
                 }
                 pdf
             }
@@ -355,16 +363,20 @@ impl SurfaceBsdf {
                 Some(BsdfSample { wi: mirror(wo), weight: self.color * f, pdf: 1.0, delta: true, eta: 1.0 })
             }
             BsdfKind::Conductor => {
-                let ggx = Ggx { alpha: self.alpha };
-                let m = ggx.sample_visible(wo, u);
+                let ggx = self.microfacet();
+                let m = ggx.sample_normal(wo, u);
                 let wi = lobes::reflect(wo, m);
                 if wi.z <= 0.0 {
                     return None;
                 }
                 let f = fresnel::conductor(wo.dot(m), r.eta, r.k);
-                let pdf = ggx.visible_pdf(wo, m) / (4.0 * wo.dot(m));
-                // f·cos/pdf with visible-normal sampling reduces to F·G1(wi).
-                let weight = self.color * f * ggx.g1(wi, m);
+                let normal_pdf = ggx.normal_pdf(wo, m);
+                if normal_pdf <= 0.0 {
+                    return None;
+                }
+                let pdf = normal_pdf / (4.0 * wo.dot(m));
+                // f·cos/pdf = F·D·G·(wo·m)/(wo_z·pdf(m)): F·G1(wi) for GGX's visible normals.
+                let weight = self.color * f * (ggx.d(m) * ggx.g(wo, wi, m) * wo.dot(m) / (wo.z * normal_pdf));
                 Some(BsdfSample { wi, weight, pdf, delta: false, eta: 1.0 })
             }
             BsdfKind::Plastic => self.sample_plastic(wo, u_lobe, u),
@@ -416,7 +428,7 @@ impl SurfaceBsdf {
             return Some(BsdfSample { wi, weight, pdf, delta: false, eta: 1.0 });
         }
         let wi = if u_lobe < p_specular {
-            lobes::reflect(wo, Ggx { alpha: self.alpha }.sample_visible(wo, u))
+            lobes::reflect(wo, self.microfacet().sample_normal(wo, u))
         } else {
             cosine_hemisphere(u)
         };
@@ -466,9 +478,9 @@ impl SurfaceBsdf {
             let weight = r.transmittance * (eta_ti * eta_ti);
             return Some(BsdfSample { wi, weight, pdf: 1.0 - f, delta: true, eta: eta_it });
         }
-        let ggx = Ggx { alpha: self.alpha };
+        let ggx = self.microfacet();
         // A normal (z > 0) visible from wo's side: from inside, fresnel sees wo·m < 0.
-        let m = ggx.sample_visible(wo * wo.z.signum(), u);
+        let m = ggx.sample_normal(wo * wo.z.signum(), u);
         let (f, cos_t, eta_it, eta_ti) = fresnel::dielectric(wo.dot(m), eta);
         let (wi, transmitted) =
             if u_lobe < f { (lobes::reflect(wo, m), false) } else { (lobes::refract(wo, m, cos_t, eta_ti), true) };
@@ -511,9 +523,9 @@ impl SurfaceBsdf {
         if m.dot(wi) * wi.z < 0.0 || m.dot(wo) * wo.z < 0.0 {
             return (Vec3::ZERO, 0.0);
         }
-        let ggx = Ggx { alpha: self.alpha };
+        let ggx = self.microfacet();
         let f = fresnel::dielectric(wo.dot(m), eta).0;
-        let visible = ggx.g1(wo, m) * wo.dot(m).abs() * ggx.d(m) / wo.z.abs();
+        let visible = ggx.normal_pdf(wo, m);
         if reflect {
             let value = r.specular * (ggx.d(m) * ggx.g(wo, wi, m) * f / (4.0 * wi.z * wo.z).abs());
             (value, visible / (4.0 * wo.dot(m).abs()) * f)

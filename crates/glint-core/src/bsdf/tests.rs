@@ -14,6 +14,17 @@ fn surface(bsdf: BsdfDesc) -> SurfaceBsdf {
     Bsdf::compile(&desc).at(Vec2::ZERO, |_, _| Vec3::ONE)
 }
 
+/// The same BSDF with Beckmann microfacets.
+fn beckmann(bsdf: BsdfDesc) -> SurfaceBsdf {
+    let desc = MaterialDesc {
+        bsdf: Some(bsdf),
+        two_sided: false,
+        microfacet: crate::desc::MicrofacetKind::Beckmann,
+        ..MaterialDesc::default()
+    };
+    Bsdf::compile(&desc).at(Vec2::ZERO, |_, _| Vec3::ONE)
+}
+
 fn phong(diffuse: f32, specular: f32, shininess: f32, mirror: f32, kt: f32, ior: f32) -> SurfaceBsdf {
     let desc = MaterialDesc {
         diffuse: Vec3::splat(diffuse),
@@ -153,6 +164,9 @@ fn rough_surfaces_lose_only_the_energy_single_scattering_misses() {
                 ("metal", surface(mirror_metal(alpha)), wo),
                 ("glass", surface(glass(alpha)), wo),
                 ("glass from inside", surface(glass(alpha)), -wo),
+                ("Beckmann metal", beckmann(mirror_metal(alpha)), wo),
+                ("Beckmann glass", beckmann(glass(alpha)), wo),
+                ("Beckmann glass from inside", beckmann(glass(alpha)), -wo),
             ] {
                 let sampled = albedo(&s, wo, 40_000).x;
                 let integrated = integrated_albedo(&s, wo);
@@ -193,6 +207,7 @@ fn reflection_is_reciprocal() {
     let cases = [
         surface(diffuse(0.7)),
         surface(gold(0.3)),
+        beckmann(gold(0.3)),
         surface(plastic(0.0, false)),
         surface(plastic(0.2, true)),
         surface(glass(0.3)),
@@ -229,6 +244,8 @@ fn samples_agree_with_eval_and_pdf() {
         surface(gold(0.25)),
         surface(glass(0.3)),
         surface(plastic(0.15, false)),
+        beckmann(gold(0.25)),
+        beckmann(glass(0.3)),
         phong(0.3, 0.4, 12.0, 0.0, 0.0, 1.0),
     ] {
         for _ in 0..500 {
@@ -312,6 +329,11 @@ fn sampled_directions_follow_the_pdf() {
         cases.push(("rough gold", surface(gold(alpha))));
         cases.push(("rough glass", surface(glass(alpha))));
         cases.push(("rough plastic", surface(plastic(alpha, false))));
+    }
+    for alpha in [0.1f32, 0.4] {
+        cases.push(("Beckmann gold", beckmann(gold(alpha))));
+        cases.push(("Beckmann glass", beckmann(glass(alpha))));
+        cases.push(("Beckmann plastic", beckmann(plastic(alpha, false))));
     }
     cases.push(("smooth plastic's diffuse part", surface(plastic(0.0, false))));
     cases.push(("phong", phong(0.3, 0.5, 8.0, 0.1, 0.0, 1.0)));

@@ -113,3 +113,14 @@ pub struct EnvironmentDesc {
     /// Rotation of the map (only rotations are meaningful; translation is ignored).
     pub transform: Vec<TransformOp>,
 }
+
+/// The distribution of microfacet normals of rough lobes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum MicrofacetKind {
+    /// GGX (Trowbridge–Reitz): long tails; sampled by visible normals.
+    #[default]
+    Ggx,
+    /// Beckmann: a Gaussian slope distribution, Mitsuba's default; sampled by its
+    /// normal distribution.
+    Beckmann,
+}

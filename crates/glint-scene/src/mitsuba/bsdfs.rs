@@ -1,11 +1,10 @@
 //! BSDF plugins → [`BsdfDesc`] inside a [`MaterialDesc`]: `diffuse`, `conductor`,
 //! `roughconductor`, `dielectric`, `roughdielectric`, `thindielectric`, `plastic`,
-//! `roughplastic`, and `twosided` around one of them. Roughness is GGX only; Mitsuba's
-//! default microfacet distribution is Beckmann, so a rough BSDF must say
-//! `<string name="distribution" value="ggx"/>` to be accepted.
+//! `roughplastic`, and `twosided` around one of them. Rough ones take Mitsuba's
+//! `distribution`: `beckmann` (its default) or `ggx`.
 
 use glam::Vec3;
-use glint_core::desc::{BsdfDesc, ColorParam, MaterialDesc, ScalarParam};
+use glint_core::desc::{BsdfDesc, ColorParam, MaterialDesc, MicrofacetKind, ScalarParam};
 
 use super::Reader;
 use super::tables::{conductor_names, ior_names, named_conductor, named_ior};
@@ -26,12 +25,14 @@ pub(super) struct Surface {
     pub two_sided: bool,
     /// The colour the Whitted integrator shows as the diffuse colour.
     pub base: ColorParam,
+    /// The microfacet distribution of a rough plugin.
+    pub microfacet: MicrofacetKind,
 }
 
 /// Mitsuba's BSDF for shapes that name none: diffuse, reflectance 0.5, one-sided.
 pub(super) fn default_surface() -> Surface {
     let base = ColorParam::constant(Vec3::splat(0.5));
-    Surface { bsdf: BsdfDesc::Diffuse { reflectance: base }, two_sided: false, base }
+    Surface { bsdf: BsdfDesc::Diffuse { reflectance: base }, two_sided: false, base, microfacet: MicrofacetKind::Ggx }
 }
 
 /// The material index of BSDF element `e` (or a `<ref>` to one; `None`: the default
@@ -60,6 +61,7 @@ pub(super) fn material_desc(name: String, s: &Surface) -> MaterialDesc {
         texture: s.base.texture,
         bsdf: Some(s.bsdf),
         two_sided: s.two_sided,
+        microfacet: s.microfacet,
         ..MaterialDesc::default()
     }
 }
@@ -67,11 +69,16 @@ pub(super) fn material_desc(name: String, s: &Surface) -> MaterialDesc {
 /// Reads one BSDF element.
 fn surface<'a>(r: &mut Reader<'a>, e: &'a Elem) -> Result<Surface, SceneError> {
     let p = Plugin::open(e)?;
-    let s = match p.ty {
+    let mut s = match p.ty {
         "twosided" => two_sided(r, &p)?,
         "diffuse" => {
             let reflectance = color_param(r, &p, "reflectance", Vec3::splat(0.5))?;
-            Surface { bsdf: BsdfDesc::Diffuse { reflectance }, two_sided: false, base: reflectance }
+            Surface {
+                bsdf: BsdfDesc::Diffuse { reflectance },
+                two_sided: false,
+                base: reflectance,
+                microfacet: MicrofacetKind::Ggx,
+            }
         }
         "conductor" | "roughconductor" => conductor(r, &p)?,
         "dielectric" | "roughdielectric" | "thindielectric" => dielectric(r, &p)?,
@@ -83,8 +90,22 @@ fn surface<'a>(r: &mut Reader<'a>, e: &'a Elem) -> Result<Surface, SceneError> {
             )));
         }
     };
+    if p.ty.starts_with("rough") {
+        s.microfacet = microfacet(&p)?;
+    }
     p.finish(&HARMLESS)?;
     Ok(s)
+}
+
+/// Mitsuba's `distribution` of a rough plugin; Beckmann when not given, as in Mitsuba.
+fn microfacet(p: &Plugin) -> Result<MicrofacetKind, SceneError> {
+    match p.string("distribution")?.unwrap_or("beckmann") {
+        "ggx" => Ok(MicrofacetKind::Ggx),
+        "beckmann" => Ok(MicrofacetKind::Beckmann),
+        other => {
+            Err(p.param_error("distribution", format!("'{other}' is not a microfacet distribution (ggx, beckmann)")))
+        }
+    }
 }
 
 /// `twosided` around exactly one BSDF: the same scattering on both sides.
@@ -99,21 +120,10 @@ fn two_sided<'a>(r: &mut Reader<'a>, p: &Plugin<'a>) -> Result<Surface, SceneErr
     }
 }
 
-/// GGX roughness of a rough plugin (0, a delta lobe, for the smooth ones).
+/// Roughness `alpha` of a rough plugin (0, a delta lobe, for the smooth ones).
 fn roughness<'a>(r: &mut Reader<'a>, p: &Plugin<'a>) -> Result<ScalarParam, SceneError> {
     if !p.ty.starts_with("rough") {
         return Ok(ScalarParam::constant(0.0));
-    }
-    match p.string("distribution")?.unwrap_or("beckmann") {
-        "ggx" => {}
-        "beckmann" => {
-            return Err(p.param_error(
-                "distribution",
-                "Beckmann (Mitsuba's default) is not supported: glint implements only GGX; \
-                 add <string name=\"distribution\" value=\"ggx\"/> to accept GGX",
-            ));
-        }
-        other => return Err(p.param_error("distribution", format!("'{other}' is not a microfacet distribution"))),
     }
     if p.has("alpha_u") || p.has("alpha_v") {
         let u = p.float("alpha_u")?.ok_or_else(|| p.error("'alpha_v' needs 'alpha_u' as well"))?;
@@ -148,7 +158,12 @@ fn conductor<'a>(r: &mut Reader<'a>, p: &Plugin<'a>) -> Result<Surface, SceneErr
     // Normal-incidence Fresnel reflectance, the metal's colour for the Whitted preview.
     let f0 = ((eta - 1.0) * (eta - 1.0) + k * k) / ((eta + 1.0) * (eta + 1.0) + k * k);
     let base = ColorParam { value: specular.value * f0, texture: specular.texture };
-    Ok(Surface { bsdf: BsdfDesc::Conductor { eta, k, specular, alpha }, two_sided: false, base })
+    Ok(Surface {
+        bsdf: BsdfDesc::Conductor { eta, k, specular, alpha },
+        two_sided: false,
+        base,
+        microfacet: MicrofacetKind::Ggx,
+    })
 }
 
 /// An index of refraction given as a number or as a name from Mitsuba's table.
@@ -175,7 +190,7 @@ fn dielectric<'a>(r: &mut Reader<'a>, p: &Plugin<'a>) -> Result<Surface, SceneEr
         let alpha = roughness(r, p)?;
         BsdfDesc::Dielectric { int_ior, ext_ior, reflectance, transmittance, alpha }
     };
-    Ok(Surface { bsdf, two_sided: true, base: ColorParam::constant(transmittance) })
+    Ok(Surface { bsdf, two_sided: true, base: ColorParam::constant(transmittance), microfacet: MicrofacetKind::Ggx })
 }
 
 /// A diffuse base under a dielectric coat.
@@ -187,5 +202,5 @@ fn plastic<'a>(r: &mut Reader<'a>, p: &Plugin<'a>) -> Result<Surface, SceneError
     let nonlinear = p.bool_or("nonlinear", false)?;
     let alpha = roughness(r, p)?;
     let bsdf = BsdfDesc::Plastic { diffuse, int_ior, ext_ior, specular, alpha, nonlinear };
-    Ok(Surface { bsdf, two_sided: false, base: diffuse })
+    Ok(Surface { bsdf, two_sided: false, base: diffuse, microfacet: MicrofacetKind::Ggx })
 }

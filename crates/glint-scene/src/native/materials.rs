@@ -13,7 +13,7 @@ use crate::texture_io;
 /// The texture types, in the order the documentation lists them.
 pub const TEXTURE_KINDS: [&str; 2] = ["checker", "image"];
 
-const MATERIAL_PROPERTIES: [&str; 17] = [
+const MATERIAL_PROPERTIES: [&str; 18] = [
     "diffuse",
     "specular",
     "shininess",
@@ -31,6 +31,7 @@ const MATERIAL_PROPERTIES: [&str; 17] = [
     "bsdf",
     "emission",
     "two_sided",
+    "microfacet",
 ];
 
 /// Builds a material; unset properties keep [`MaterialDesc::default`].
@@ -64,6 +65,7 @@ pub fn material(src: &Source, node: &Node, name: &str, textures: &Registry) -> R
             }
             "emission" => m.emission = args::color(src, prop)?,
             "two_sided" => m.two_sided = args::boolean(src, prop)?,
+            "microfacet" => m.microfacet = microfacet(src, prop)?,
             "texture" => {
                 args::no_block(src, prop)?;
                 let (texture, pos) = args::string(src, prop, "a texture name")?;
@@ -121,4 +123,25 @@ pub fn texture(src: &Source, name: &str, kind: &Node) -> Result<TextureDesc> {
     };
     let path = src.dir.join(&file);
     texture_io::load_texture(name, &path).map_err(|e| src.error(SceneErrorKind::Io, prop.pos(), e.to_string()))
+}
+
+/// `microfacet "ggx"|"beckmann"`: the distribution of the BSDF's rough lobes.
+fn microfacet(src: &Source, prop: &Node) -> Result<glint_core::desc::MicrofacetKind> {
+    use super::tree::{Value, ValueKind};
+    use glint_core::desc::MicrofacetKind;
+    args::no_block(src, prop)?;
+    let found = match prop.args.as_slice() {
+        [Value { kind: ValueKind::Str(name), .. }] => match name.as_str() {
+            "ggx" => return Ok(MicrofacetKind::Ggx),
+            "beckmann" => return Ok(MicrofacetKind::Beckmann),
+            other => format!("\"{other}\""),
+        },
+        [] => "nothing".to_owned(),
+        [value] => value.describe(),
+        many => format!("{} values", many.len()),
+    };
+    Err(src.invalid(
+        args::value_pos(prop),
+        format!("'microfacet' must be \"ggx\" or \"beckmann\" (in quotes), found {found}"),
+    ))
 }

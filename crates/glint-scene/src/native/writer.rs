@@ -332,6 +332,9 @@ impl Writer {
             lines.push(bsdf(b, name, textures)?);
         }
         lines.push(format!("emission {}  two_sided {}", vec3(m.emission, &what("emission"))?, m.two_sided));
+        if m.microfacet == glint_core::desc::MicrofacetKind::Beckmann {
+            lines.push("microfacet \"beckmann\"".to_owned());
+        }
         self.line(0, &format!("material {} {{", quote(name)));
         for l in &lines {
             self.line(1, l);
@@ -358,6 +361,7 @@ impl Writer {
             bsdf: defaults.bsdf,
             emission: defaults.emission,
             two_sided: defaults.two_sided,
+            microfacet: defaults.microfacet,
             ..m.clone()
         };
         if rest != defaults {
