@@ -261,12 +261,13 @@ fn path_sample(scene: &RenderScene, px: u32, py: u32, index: u32, counters: &mut
     };
     let mut sampler = PathSampler::new(kind, px, py, index, s.seed);
     let offset = sampler.next_2d();
-    let lens = sampler.next_2d();
-    let time = sampler.next_1d();
+    // The lens and the shutter take dimensions only where they matter (the same for
+    // every sample of a scene, so each later decision keeps a fixed dimension).
+    let lens = if scene.camera.aperture_radius > 0.0 { sampler.next_2d() } else { Vec2::splat(0.5) };
     let (fx, fy) = (px as f32 + offset.x, py as f32 + offset.y);
     let mut ray = scene.camera.ray(2.0 * fx / s.width as f32 - 1.0, 1.0 - 2.0 * fy / s.height as f32, lens);
     if !scene.motions.is_empty() {
-        ray.time = time;
+        ray.time = sampler.next_1d();
     }
     let mut aov = Aov::default();
     let value = path::radiance(scene, &ray, &mut sampler, counters, s.aovs.then_some(&mut aov));

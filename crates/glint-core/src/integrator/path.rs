@@ -116,14 +116,15 @@ pub fn radiance(
         previous = Some(Bounce { point: hit.point, pdf: sample.pdf, delta: sample.delta });
         depth += 1;
 
-        let u_roulette = sampler.next_1d();
         let most = throughput.max_element();
         if (most.is_nan() || most <= 0.0) || !throughput.is_finite() {
             break;
         }
+        // Roulette draws its number only at depths where it plays (the same depths for
+        // every path, so dimensions stay aligned).
         if depth >= limits.rr_depth {
             let survive = (most * eta * eta).min(0.95);
-            if u_roulette >= survive {
+            if sampler.next_1d() >= survive {
                 break;
             }
             throughput /= survive;
