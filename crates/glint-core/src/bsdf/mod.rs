@@ -8,6 +8,7 @@
 //! Conventions (as PBRT's): `wo` points toward the viewer, `wi` toward the light;
 //! `f(wo, wi)` excludes the cosine; sampled weights are `f·|cos θ_i| / pdf`.
 
+mod coat;
 pub mod fresnel;
 pub mod lobes;
 pub mod microfacet;
@@ -75,6 +76,8 @@ pub struct Bsdf {
     pub exponent: f32,
     /// Plastic: the internal diffuse Fresnel reflectance of the coat.
     pub internal_reflectance: f32,
+    /// Rough plastic: the coat's transmittance at `cos θ = i/(N−1)` ([`coat`]).
+    pub coat_transmittance: [f32; coat::COAT_TABLE],
     /// Radiance the surface emits from its front side (area light).
     pub emission: Vec3,
 }
@@ -101,6 +104,7 @@ impl Bsdf {
             glossy: Vec3::ZERO,
             exponent: 1.0,
             internal_reflectance: 0.0,
+            coat_transmittance: [1.0; coat::COAT_TABLE],
             emission: desc.emission,
         };
         let Some(bsdf) = desc.bsdf else {
@@ -140,12 +144,21 @@ impl Bsdf {
             },
             BsdfDesc::Plastic { diffuse, int_ior, ext_ior, specular, alpha, nonlinear } => {
                 let eta = int_ior / ext_ior;
+                // A rough coat's tables are made at the base roughness (a roughness
+                // texture varies the specular lobe only).
+                let (coat_transmittance, internal_reflectance) = if alpha.value >= Ggx::MIN_ALPHA {
+                    let beckmann = base.flags & BECKMANN != 0;
+                    coat::coat_tables(Microfacet { alpha: alpha.value, beckmann }, eta)
+                } else {
+                    ([1.0; coat::COAT_TABLE], fresnel::diffuse_reflectance(1.0 / eta))
+                };
                 let plastic = Self {
                     kind: BsdfKind::Plastic,
                     flags: base.flags | if nonlinear { NONLINEAR } else { 0 },
                     eta: Vec3::splat(eta),
                     specular,
-                    internal_reflectance: fresnel::diffuse_reflectance(1.0 / eta),
+                    internal_reflectance,
+                    coat_transmittance,
                     ..base
                 };
                 with_alpha(with_color(plastic, diffuse), alpha)
@@ -392,9 +405,19 @@ impl SurfaceBsdf {
         let s = self.record.specular.element_sum() / 3.0;
         let d = self.color.element_sum() / 3.0;
         let weight = if s + d > 0.0 { s / (s + d) } else { 0.5 };
-        let f = fresnel::dielectric(wo.z, self.record.eta.x).0;
+        let f = 1.0 - self.coat_transmittance(wo.z);
         let (ps, pd) = (f * weight, (1.0 - f) * (1.0 - weight));
         if ps + pd > 0.0 { ps / (ps + pd) } else { 0.0 }
+    }
+
+    /// The share of light at `cos θ = mu` that crosses the coat: `1 − F` for a smooth
+    /// coat, the precomputed table for a rough one (as Mitsuba's plastics have it).
+    fn coat_transmittance(&self, mu: f32) -> f32 {
+        if self.alpha == 0.0 {
+            1.0 - fresnel::dielectric(mu, self.record.eta.x).0
+        } else {
+            coat::lookup(&self.record.coat_transmittance, mu)
+        }
     }
 
     /// Light refracted into the coat, scattered by the base (with the inter-reflections
@@ -402,7 +425,7 @@ impl SurfaceBsdf {
     fn plastic_diffuse(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         let r = &self.record;
         let eta = r.eta.x;
-        let (fo, fi) = (fresnel::dielectric(wo.z, eta).0, fresnel::dielectric(wi.z, eta).0);
+        let (fo, fi) = (1.0 - self.coat_transmittance(wo.z), 1.0 - self.coat_transmittance(wi.z));
         let denominator = if r.flags & NONLINEAR != 0 {
             Vec3::ONE - self.color * r.internal_reflectance
         } else {
