@@ -34,7 +34,7 @@ impl Camera {
         let w = (-desc.look).try_normalize()?;
         let u = desc.up.cross(w).try_normalize()?;
         let v = w.cross(u);
-        let tan_y = (0.5 * desc.fov_y_degrees.to_radians()).tan();
+        let tan_y = desc.fov_axis.tan_half_vertical(desc.fov_y_degrees, aspect);
         let tan_x = tan_y * aspect;
         let rotate = Mat4::from_cols(u.extend(0.0), v.extend(0.0), w.extend(0.0), glam::Vec4::W);
         let unscale = Mat4::from_scale(Vec3::new(tan_x, tan_y, 1.0));
@@ -123,6 +123,25 @@ mod tests {
                 assert!((r.at(t) - sharp).length() < 1e-4, "{x},{y} {lens}");
             }
         }
+    }
+
+    #[test]
+    fn view_angles_along_every_axis_span_that_extent() {
+        use crate::desc::FovAxis;
+        let angle = |axis, aspect: f32| {
+            let desc = CameraDesc { fov_y_degrees: 60.0, fov_axis: axis, ..Default::default() };
+            let cam = Camera::new(&desc, aspect).unwrap();
+            let (right, top) = (cam.ray(1.0, 0.0, Vec2::ZERO).dir, cam.ray(0.0, 1.0, Vec2::ZERO).dir);
+            let corner = cam.ray(1.0, 1.0, Vec2::ZERO).dir;
+            let deg = |d: Vec3| 2.0 * d.angle_between(cam.forward).to_degrees();
+            (deg(right), deg(top), deg(corner))
+        };
+        let close = |a: f32, b: f32| (a - b).abs() < 1e-3;
+        assert!(close(angle(FovAxis::Y, 2.0).1, 60.0));
+        assert!(close(angle(FovAxis::X, 2.0).0, 60.0));
+        assert!(close(angle(FovAxis::Diagonal, 2.0).2, 60.0));
+        assert!(close(angle(FovAxis::Smaller, 2.0).1, 60.0) && close(angle(FovAxis::Smaller, 0.5).0, 60.0));
+        assert!(close(angle(FovAxis::Larger, 2.0).0, 60.0) && close(angle(FovAxis::Larger, 0.5).1, 60.0));
     }
 
     #[test]

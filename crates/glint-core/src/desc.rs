@@ -175,8 +175,12 @@ pub struct CameraDesc {
     /// Direction the camera looks along (need not be normalized).
     pub look: Vec3,
     pub up: Vec3,
-    /// Full vertical view angle in degrees.
+    /// Full view angle in degrees, measured along `fov_axis` (vertically by default).
     pub fov_y_degrees: f32,
+    /// The image axis the view angle spans; with any other than `Y`, resizing the
+    /// image keeps the angle along that axis (as Mitsuba's `fov_axis` does).
+    #[serde(default)]
+    pub fov_axis: FovAxis,
     /// Radius of the thin lens; 0 is a pinhole (everything in focus).
     pub aperture_radius: f32,
     /// Distance from the eye to the plane in perfect focus (used when the aperture is open).
@@ -190,8 +194,44 @@ impl Default for CameraDesc {
             look: Vec3::NEG_Z,
             up: Vec3::Y,
             fov_y_degrees: 45.0,
+            fov_axis: FovAxis::Y,
             aperture_radius: 0.0,
             focal_distance: 1.0,
+        }
+    }
+}
+
+/// Which extent of the image a camera's view angle spans.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum FovAxis {
+    /// The vertical extent (the lecture's view angle).
+    #[default]
+    Y,
+    /// The horizontal extent.
+    X,
+    /// The diagonal.
+    Diagonal,
+    /// The shorter side.
+    Smaller,
+    /// The longer side.
+    Larger,
+}
+
+impl FovAxis {
+    /// `tan(θ_y/2)` for a view angle `degrees` along this axis on an image of
+    /// `aspect` = width / height.
+    pub fn tan_half_vertical(self, degrees: f32, aspect: f32) -> f32 {
+        let t = (0.5 * degrees.to_radians()).tan();
+        let vertical = match self {
+            FovAxis::Smaller => aspect >= 1.0,
+            FovAxis::Larger => aspect < 1.0,
+            FovAxis::Y => true,
+            FovAxis::X | FovAxis::Diagonal => false,
+        };
+        match self {
+            FovAxis::Diagonal => t / (1.0 + aspect * aspect).sqrt(),
+            _ if vertical => t,
+            _ => t / aspect,
         }
     }
 }

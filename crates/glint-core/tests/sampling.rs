@@ -92,6 +92,7 @@ fn defocus_scene(aperture: f32) -> SceneDesc {
             look: Vec3::NEG_Z,
             up: Vec3::Y,
             fov_y_degrees: 20.0,
+            fov_axis: glint_core::desc::FovAxis::Y,
             aperture_radius: aperture,
             focal_distance: 5.0,
         },

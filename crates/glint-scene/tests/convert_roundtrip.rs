@@ -126,6 +126,7 @@ fn everything(texture: &Path) -> SceneDesc {
         look: Vec3::new(-0.1, -0.2, -1.0),
         up: Vec3::new(0.0, 1.0, 0.1),
         fov_y_degrees: 38.5,
+        fov_axis: glint_core::desc::FovAxis::Y,
         aperture_radius: 0.05,
         focal_distance: 9.0,
     };

@@ -177,7 +177,21 @@ fn fov_y(axis: &str, fov: f32) -> f32 {
             <film type="hdrfilm"><integer name="width" value="200"/><integer name="height" value="100"/></film>
         </sensor>"#
     ));
-    s.camera.fov_y_degrees
+    // The vertical angle the camera has at this image size.
+    let tan_y = s.camera.fov_axis.tan_half_vertical(s.camera.fov_y_degrees, 2.0);
+    2.0 * tan_y.atan().to_degrees()
+}
+
+#[test]
+fn fov_axis_survives_a_change_of_image_size() {
+    let s = scene(
+        r#"<sensor type="perspective"><float name="fov" value="90"/><string name="fov_axis" value="x"/>
+            <film type="hdrfilm"><integer name="width" value="200"/><integer name="height" value="100"/></film>
+        </sensor>"#,
+    );
+    assert_eq!((s.camera.fov_y_degrees, s.camera.fov_axis), (90.0, glint_core::desc::FovAxis::X));
+    // Made square (--width 100), the horizontal angle is still 90°: so is the vertical.
+    assert!((s.camera.fov_axis.tan_half_vertical(90.0, 1.0) - 1.0).abs() < 1e-6);
 }
 
 #[test]

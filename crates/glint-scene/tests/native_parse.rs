@@ -103,6 +103,7 @@ fn camera_look_at_becomes_a_direction() {
             look: Vec3::new(0.0, -1.0, -8.0),
             up: Vec3::Y,
             fov_y_degrees: 30.0,
+            fov_axis: glint_core::desc::FovAxis::Y,
             aperture_radius: 0.0,
             focal_distance: Vec3::new(0.0, -1.0, -8.0).length(),
         }

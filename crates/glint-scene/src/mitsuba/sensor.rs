@@ -3,7 +3,7 @@
 
 use glam::{Mat3, Vec3};
 use glint_core::desc::{
-    CameraDesc, FilterDesc, FilterKind, IntegratorDesc, PathDesc, RenderSettings, SamplerKind, SceneDesc,
+    CameraDesc, FilterDesc, FilterKind, FovAxis, IntegratorDesc, PathDesc, RenderSettings, SamplerKind, SceneDesc,
 };
 
 use super::tree::Elem;
@@ -51,16 +51,16 @@ pub(super) fn sensor(e: &Elem, scene: &mut SceneDesc) -> Result<(), SceneError> 
     for s in p.objects("sampler") {
         sampler(s, &mut scene.settings)?;
     }
-    let aspect = scene.settings.width as f32 / scene.settings.height as f32;
-    let fov_x = horizontal_fov(&p, aspect)?;
-    let fov_y = 2.0 * ((0.5 * fov_x.to_radians()).tan() / aspect).atan().to_degrees();
+    let (fov, fov_axis) = field_of_view(&p)?;
     for axis in ["principal_point_offset_x", "principal_point_offset_y"] {
         if p.float_or(axis, 0.0)? != 0.0 {
             return Err(p.param_error(axis, "an off-centre principal point is not supported"));
         }
     }
     let mut camera = camera_frame(&p)?;
-    camera.fov_y_degrees = fov_y;
+    // The angle stays along Mitsuba's axis, so `--width`/`--height` keep its meaning.
+    camera.fov_y_degrees = fov;
+    camera.fov_axis = fov_axis;
     if p.ty == "thinlens" {
         let need = |name: &str| p.float(name)?.ok_or_else(|| p.error(format!("needs '{name}'")));
         camera.aperture_radius = need("aperture_radius")?;
@@ -70,11 +70,10 @@ pub(super) fn sensor(e: &Elem, scene: &mut SceneDesc) -> Result<(), SceneError> 
     p.finish(&SENSOR_HARMLESS)
 }
 
-/// Mitsuba's field of view converted to the horizontal angle in degrees: `fov` along
-/// `fov_axis` (x, y, diagonal, smaller, larger), or a 35 mm `focal_length` (default
-/// 50mm) across the film diagonal.
-fn horizontal_fov(p: &Plugin, aspect: f32) -> Result<f32, SceneError> {
-    let tan_half = |deg: f32| (0.5 * deg.to_radians()).tan();
+/// Mitsuba's field of view in degrees and the axis it spans: `fov` along `fov_axis`
+/// (x, y, diagonal, smaller, larger), or a 35 mm `focal_length` (default 50mm) across
+/// the film diagonal.
+fn field_of_view(p: &Plugin) -> Result<(f32, FovAxis), SceneError> {
     let (fov, axis) = match (p.float("fov")?, p.has("focal_length")) {
         (Some(_), true) => return Err(p.param_error("fov", "give either 'fov' or 'focal_length', not both")),
         (Some(fov), false) => (fov, p.string("fov_axis")?.unwrap_or("x").to_ascii_lowercase()),
@@ -90,16 +89,11 @@ fn horizontal_fov(p: &Plugin, aspect: f32) -> Result<f32, SceneError> {
         return Err(p.param_error("fov", format!("{fov} is not an angle between 0 and 180 degrees")));
     }
     let axis = match axis.as_str() {
-        "smaller" if aspect > 1.0 => "y",
-        "smaller" => "x",
-        "larger" if aspect > 1.0 => "x",
-        "larger" => "y",
-        other => other,
-    };
-    let tan_x = match axis {
-        "x" => tan_half(fov),
-        "y" => tan_half(fov) * aspect,
-        "diagonal" => tan_half(fov) / (1.0 + 1.0 / (aspect * aspect)).sqrt(),
+        "x" => FovAxis::X,
+        "y" => FovAxis::Y,
+        "diagonal" => FovAxis::Diagonal,
+        "smaller" => FovAxis::Smaller,
+        "larger" => FovAxis::Larger,
         other => {
             return Err(p.param_error(
                 "fov_axis",
@@ -107,7 +101,7 @@ fn horizontal_fov(p: &Plugin, aspect: f32) -> Result<f32, SceneError> {
             ));
         }
     };
-    Ok(2.0 * tan_x.atan().to_degrees())
+    Ok((fov, axis))
 }
 
 /// Eye, look and up from `to_world`: the camera looks along local +z with +y up, and

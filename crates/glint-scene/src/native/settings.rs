@@ -43,7 +43,7 @@ const SETTINGS_PROPERTIES: [&str; 20] = [
     "spp",
 ];
 
-const CAMERA_PROPERTIES: [&str; 7] = ["eye", "look_at", "look", "up", "fov", "aperture", "focal_distance"];
+const CAMERA_PROPERTIES: [&str; 8] = ["eye", "look_at", "look", "up", "fov", "fov_axis", "aperture", "focal_distance"];
 
 /// Applies a `settings` block on top of `settings` (which starts at the defaults).
 pub fn settings(src: &Source, node: &Node, settings: &mut RenderSettings) -> Result<()> {
@@ -172,6 +172,7 @@ pub fn camera(src: &Source, node: &Node) -> Result<CameraDesc> {
                         x > 0.0 && x < 180.0
                     })?;
             }
+            "fov_axis" => camera.fov_axis = fov_axis(src, prop)?,
             "aperture" => camera.aperture_radius = args::number_where(src, prop, "0 or more", |x| x >= 0.0)?,
             "focal_distance" => camera.focal_distance = args::number_where(src, prop, "above 0", |x| x > 0.0)?,
             _ => {
@@ -217,4 +218,28 @@ pub fn camera(src: &Source, node: &Node) -> Result<CameraDesc> {
         ));
     }
     Ok(camera)
+}
+
+/// `fov_axis "y"|"x"|"diagonal"|"smaller"|"larger"`: the extent `fov` spans.
+fn fov_axis(src: &Source, prop: &Node) -> Result<glint_core::desc::FovAxis> {
+    use super::tree::{Value, ValueKind};
+    use glint_core::desc::FovAxis;
+    args::no_block(src, prop)?;
+    let found = match prop.args.as_slice() {
+        [Value { kind: ValueKind::Str(name), .. }] => match name.as_str() {
+            "y" => return Ok(FovAxis::Y),
+            "x" => return Ok(FovAxis::X),
+            "diagonal" => return Ok(FovAxis::Diagonal),
+            "smaller" => return Ok(FovAxis::Smaller),
+            "larger" => return Ok(FovAxis::Larger),
+            other => format!("\"{other}\""),
+        },
+        [] => "nothing".to_owned(),
+        [value] => value.describe(),
+        many => format!("{} values", many.len()),
+    };
+    Err(src.invalid(
+        args::value_pos(prop),
+        format!("'fov_axis' must be \"y\", \"x\", \"diagonal\", \"smaller\" or \"larger\" (in quotes), found {found}"),
+    ))
 }

@@ -233,11 +233,19 @@ impl Writer {
     }
 
     fn camera(&mut self, c: &CameraDesc) -> Result<(), WriteError> {
+        use glint_core::desc::FovAxis;
+        let axis = match c.fov_axis {
+            FovAxis::Y => String::new(),
+            FovAxis::X => "  fov_axis \"x\"".into(),
+            FovAxis::Diagonal => "  fov_axis \"diagonal\"".into(),
+            FovAxis::Smaller => "  fov_axis \"smaller\"".into(),
+            FovAxis::Larger => "  fov_axis \"larger\"".into(),
+        };
         let lines = [
             format!("eye {}", vec3(c.eye, "camera eye")?),
             format!("look {}", vec3(c.look, "camera look")?),
             format!("up {}", vec3(c.up, "camera up")?),
-            format!("fov {}", num(c.fov_y_degrees, "camera fov")?),
+            format!("fov {}{axis}", num(c.fov_y_degrees, "camera fov")?),
             format!("aperture {}", num(c.aperture_radius, "camera aperture")?),
             format!("focal_distance {}", num(c.focal_distance, "camera focal_distance")?),
         ];
@@ -255,6 +263,7 @@ impl Writer {
             look: defaults.look,
             up: defaults.up,
             fov_y_degrees: defaults.fov_y_degrees,
+            fov_axis: defaults.fov_axis,
             aperture_radius: defaults.aperture_radius,
             focal_distance: defaults.focal_distance,
             ..c.clone()
