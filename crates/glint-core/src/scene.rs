@@ -511,16 +511,27 @@ impl RenderScene {
         let inst = &self.instances[index as usize];
         let xf = self.transform_at(inst, ray.time);
         let local = xf.ray_to_object(ray);
-        let (surface, geometric, shadow_point) = match inst.shape.kind {
-            ShapeKind::Mesh => {
-                let m = self.meshes[inst.shape.mesh_index() as usize].surface(&local, hit);
-                (m.surface, m.geometric, m.shadow_point)
-            }
-            _ => {
-                let surface = inst.shape.surface_with(&self.shape_tables, &local, hit);
-                (surface, surface.normal, surface.point)
-            }
-        };
+        let material = inst.shape.hit_material(&self.shape_tables, hit).unwrap_or(inst.material);
+        if inst.shape.kind != ShapeKind::Mesh {
+            // Analytic surfaces: the true surface is the shading surface, so the normal
+            // and the point are transformed once.
+            let surface = inst.shape.surface_with(&self.shape_tables, &local, hit);
+            let normal = xf.normal_to_world(surface.normal).normalize_or(Vec3::Y);
+            let point = xf.point_to_world(surface.point);
+            return Hit {
+                t: hit.t,
+                point,
+                normal,
+                geometric_normal: normal,
+                shadow_point: point,
+                uv: surface.uv,
+                material,
+                instance: index,
+                part: hit.part,
+            };
+        }
+        let m = self.meshes[inst.shape.mesh_index() as usize].surface(&local, hit);
+        let (surface, geometric, shadow_point) = (m.surface, m.geometric, m.shadow_point);
         let normal = xf.normal_to_world(surface.normal).normalize_or(Vec3::Y);
         Hit {
             t: hit.t,
@@ -529,7 +540,7 @@ impl RenderScene {
             geometric_normal: xf.normal_to_world(geometric).normalize_or(normal),
             shadow_point: xf.point_to_world(shadow_point),
             uv: surface.uv,
-            material: inst.shape.hit_material(&self.shape_tables, hit).unwrap_or(inst.material),
+            material,
             instance: index,
             part: hit.part,
         }

@@ -173,7 +173,7 @@ impl Bsdf {
 
     /// The parameters at texture coordinates `uv`; `texture(index, uv)` samples the
     /// scene's textures.
-    pub fn at(&self, uv: Vec2, texture: impl Fn(u32, Vec2) -> Vec3) -> SurfaceBsdf {
+    pub fn at(&self, uv: Vec2, texture: impl Fn(u32, Vec2) -> Vec3) -> SurfaceBsdf<'_> {
         let mut color = self.color;
         if self.color_texture != NO_TEXTURE {
             let t = texture(self.color_texture, uv * self.uv_repeat);
@@ -183,7 +183,7 @@ impl Bsdf {
         if self.alpha_texture != NO_TEXTURE {
             alpha *= texture(self.alpha_texture, uv * self.uv_repeat).element_sum() / 3.0;
         }
-        SurfaceBsdf { record: *self, color, alpha: if alpha < Ggx::MIN_ALPHA { 0.0 } else { alpha } }
+        SurfaceBsdf { record: self, color, alpha: if alpha < Ggx::MIN_ALPHA { 0.0 } else { alpha } }
     }
 }
 
@@ -208,13 +208,13 @@ pub struct BsdfSample {
 
 /// A BSDF with its textured parameters resolved at one point.
 #[derive(Clone, Copy, Debug)]
-pub struct SurfaceBsdf {
-    pub record: Bsdf,
+pub struct SurfaceBsdf<'a> {
+    pub record: &'a Bsdf,
     pub color: Vec3,
     pub alpha: f32,
 }
 
-impl SurfaceBsdf {
+impl SurfaceBsdf<'_> {
     fn two_sided(&self) -> bool {
         self.record.flags & TWO_SIDED != 0
     }
@@ -308,7 +308,7 @@ impl SurfaceBsdf {
     // ---- reflection-only kinds, with wo and wi on the +z side ----
 
     fn eval_front(&self, wo: Vec3, wi: Vec3) -> Vec3 {
-        let r = &self.record;
+        let r = self.record;
         match r.kind {
             BsdfKind::Diffuse => self.color * FRAC_1_PI,
             BsdfKind::Conductor => {
@@ -359,7 +359,7 @@ impl SurfaceBsdf {
     }
 
     fn sample_front(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
-        let r = &self.record;
+        let r = self.record;
         match r.kind {
             BsdfKind::Diffuse => {
                 let wi = cosine_hemisphere(u);
@@ -423,7 +423,7 @@ impl SurfaceBsdf {
     /// Light refracted into the coat, scattered by the base (with the inter-reflections
     /// under the coat summed as a geometric series) and refracted out.
     fn plastic_diffuse(&self, wo: Vec3, wi: Vec3) -> Vec3 {
-        let r = &self.record;
+        let r = self.record;
         let eta = r.eta.x;
         let (fo, fi) = (1.0 - self.coat_transmittance(wo.z), 1.0 - self.coat_transmittance(wi.z));
         let denominator = if r.flags & NONLINEAR != 0 {
@@ -475,7 +475,7 @@ impl SurfaceBsdf {
     // ---- dielectrics ----
 
     fn sample_thin(&self, wo: Vec3, u_lobe: f32) -> Option<BsdfSample> {
-        let r = &self.record;
+        let r = self.record;
         let mut reflect = fresnel::dielectric(wo.z.abs(), r.eta.x).0;
         if reflect < 1.0 {
             // Both faces' inter-reflections: R + T²R/(1 − R²).
@@ -489,7 +489,7 @@ impl SurfaceBsdf {
     }
 
     fn sample_dielectric(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
-        let r = &self.record;
+        let r = self.record;
         let eta = r.eta.x;
         if self.alpha == 0.0 {
             let (f, cos_t, eta_it, eta_ti) = fresnel::dielectric(wo.z, eta);
@@ -521,7 +521,7 @@ impl SurfaceBsdf {
     /// `f` and pdf of the rough dielectric (Walter et al. 2007, with visible-normal
     /// sampling; the generalized half vector as in PBRT 4th ed. §9.7).
     fn rough_dielectric(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
-        let r = &self.record;
+        let r = self.record;
         if self.alpha == 0.0 || wo.z == 0.0 || wi.z == 0.0 {
             return (Vec3::ZERO, 0.0);
         }

@@ -42,7 +42,7 @@ pub(super) fn from_phong(desc: &MaterialDesc, base: Bsdf) -> Bsdf {
 
 /// The four lobe weights (diffuse, glossy, mirror, transmitted), scaled to conserve
 /// energy, and the probabilities of sampling each.
-fn lobes(s: &SurfaceBsdf) -> ([Vec3; 4], [f32; 4]) {
+fn lobes(s: &SurfaceBsdf<'_>) -> ([Vec3; 4], [f32; 4]) {
     let r = &s.record;
     let mut w = [s.color, r.glossy, r.specular, r.transmittance].map(|c| c.max(Vec3::ZERO));
     let total = (w[0] + w[1] + w[2] + w[3]).max_element();
@@ -55,7 +55,7 @@ fn lobes(s: &SurfaceBsdf) -> ([Vec3; 4], [f32; 4]) {
     (w, p)
 }
 
-pub(super) fn has_non_delta(s: &SurfaceBsdf) -> bool {
+pub(super) fn has_non_delta(s: &SurfaceBsdf<'_>) -> bool {
     let (_, p) = lobes(s);
     p[0] + p[1] > 0.0
 }
@@ -65,7 +65,7 @@ fn front(wo: Vec3, wi: Vec3) -> (Vec3, Vec3) {
     if wo.z < 0.0 { (wo * Vec3::new(1.0, 1.0, -1.0), wi * Vec3::new(1.0, 1.0, -1.0)) } else { (wo, wi) }
 }
 
-pub(super) fn eval(s: &SurfaceBsdf, wo: Vec3, wi: Vec3) -> Vec3 {
+pub(super) fn eval(s: &SurfaceBsdf<'_>, wo: Vec3, wi: Vec3) -> Vec3 {
     let (wo, wi) = front(wo, wi);
     if wi.z <= 0.0 || wo.z <= 0.0 {
         return Vec3::ZERO;
@@ -76,7 +76,7 @@ pub(super) fn eval(s: &SurfaceBsdf, wo: Vec3, wi: Vec3) -> Vec3 {
     w[0] * FRAC_1_PI + w[1] * ((n + 2.0) / (2.0 * PI) * cos_a.powf(n))
 }
 
-pub(super) fn pdf(s: &SurfaceBsdf, wo: Vec3, wi: Vec3) -> f32 {
+pub(super) fn pdf(s: &SurfaceBsdf<'_>, wo: Vec3, wi: Vec3) -> f32 {
     let (wo, wi) = front(wo, wi);
     if wi.z <= 0.0 || wo.z <= 0.0 {
         return 0.0;
@@ -85,7 +85,7 @@ pub(super) fn pdf(s: &SurfaceBsdf, wo: Vec3, wi: Vec3) -> f32 {
     p[0] * cosine_hemisphere_pdf(wi) + p[1] * phong_lobe_pdf(mirror(wo), s.record.exponent, wi)
 }
 
-pub(super) fn sample(s: &SurfaceBsdf, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+pub(super) fn sample(s: &SurfaceBsdf<'_>, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
     let (w, p) = lobes(s);
     let flip = if wo.z < 0.0 { Vec3::new(1.0, 1.0, -1.0) } else { Vec3::ONE };
     let wo_front = wo * flip;

@@ -9,23 +9,28 @@ use super::*;
 use crate::desc::{BsdfDesc, ColorParam, MaterialDesc, ScalarParam};
 use crate::sampling::Rng;
 
-fn surface(bsdf: BsdfDesc) -> SurfaceBsdf {
+/// Test BSDFs live for the whole test run.
+fn leak(b: Bsdf) -> &'static Bsdf {
+    Box::leak(Box::new(b))
+}
+
+fn surface(bsdf: BsdfDesc) -> SurfaceBsdf<'static> {
     let desc = MaterialDesc { bsdf: Some(bsdf), two_sided: false, ..MaterialDesc::default() };
-    Bsdf::compile(&desc).at(Vec2::ZERO, |_, _| Vec3::ONE)
+    leak(Bsdf::compile(&desc)).at(Vec2::ZERO, |_, _| Vec3::ONE)
 }
 
 /// The same BSDF with Beckmann microfacets.
-fn beckmann(bsdf: BsdfDesc) -> SurfaceBsdf {
+fn beckmann(bsdf: BsdfDesc) -> SurfaceBsdf<'static> {
     let desc = MaterialDesc {
         bsdf: Some(bsdf),
         two_sided: false,
         microfacet: crate::desc::MicrofacetKind::Beckmann,
         ..MaterialDesc::default()
     };
-    Bsdf::compile(&desc).at(Vec2::ZERO, |_, _| Vec3::ONE)
+    leak(Bsdf::compile(&desc)).at(Vec2::ZERO, |_, _| Vec3::ONE)
 }
 
-fn phong(diffuse: f32, specular: f32, shininess: f32, mirror: f32, kt: f32, ior: f32) -> SurfaceBsdf {
+fn phong(diffuse: f32, specular: f32, shininess: f32, mirror: f32, kt: f32, ior: f32) -> SurfaceBsdf<'static> {
     let desc = MaterialDesc {
         diffuse: Vec3::splat(diffuse),
         specular: Vec3::splat(specular),
@@ -35,7 +40,7 @@ fn phong(diffuse: f32, specular: f32, shininess: f32, mirror: f32, kt: f32, ior:
         ior,
         ..MaterialDesc::default()
     };
-    Bsdf::compile(&desc).at(Vec2::ZERO, |_, _| Vec3::ONE)
+    leak(Bsdf::compile(&desc)).at(Vec2::ZERO, |_, _| Vec3::ONE)
 }
 
 fn diffuse(r: f32) -> BsdfDesc {
@@ -89,7 +94,7 @@ fn direction(cos_theta: f32, phi: f32) -> Vec3 {
 
 /// Mean sampled weight (the directional albedo) over `n` samples, with the radiance
 /// scaling of refraction undone so that lossless surfaces give exactly 1.
-fn albedo(s: &SurfaceBsdf, wo: Vec3, n: u32) -> Vec3 {
+fn albedo(s: &SurfaceBsdf<'static>, wo: Vec3, n: u32) -> Vec3 {
     let mut rng = Rng::new(11);
     let mut sum = Vec3::ZERO;
     for _ in 0..n {
@@ -131,7 +136,7 @@ fn white_furnace_lossless_surfaces_return_all_light() {
 
 /// `∫ f(wo, wi) |cos θi| dωi` over the sphere by a midpoint rule fine enough for lobes of
 /// α ≥ 0.05, with the radiance scaling of refraction undone (as in [`albedo`]).
-fn integrated_albedo(s: &SurfaceBsdf, wo: Vec3) -> f32 {
+fn integrated_albedo(s: &SurfaceBsdf<'static>, wo: Vec3) -> f32 {
     let (nc, np) = (1600, 400);
     let eta = s.record.eta.x;
     let mut sum = 0.0f64;
@@ -230,7 +235,7 @@ fn one_sided_surfaces_are_black_from_behind_and_two_sided_ones_are_not() {
     assert!(one.sample(wo, 0.5, Vec2::splat(0.3)).is_none());
     assert_eq!(one.eval(wo, direction(-0.5, 1.0)), Vec3::ZERO);
     let desc = MaterialDesc { bsdf: Some(diffuse(0.5)), two_sided: true, ..MaterialDesc::default() };
-    let two = Bsdf::compile(&desc).at(Vec2::ZERO, |_, _| Vec3::ONE);
+    let two = leak(Bsdf::compile(&desc)).at(Vec2::ZERO, |_, _| Vec3::ONE);
     let s = two.sample(wo, 0.5, Vec2::splat(0.3)).unwrap();
     assert!(s.wi.z < 0.0, "scatters back to the side it came from");
     assert!((two.eval(wo, direction(-0.5, 1.0)) - Vec3::splat(0.5 / PI)).length() < 1e-6);
@@ -267,7 +272,7 @@ fn samples_agree_with_eval_and_pdf() {
 /// Pearson's chi-square test of sampled directions against the pdf over a
 /// (cos θ, φ) grid of the whole sphere, merging cells expected to get under 5 samples.
 /// Passes at significance 1e-3 (Wilson–Hilferty quantile).
-fn chi_square_fits(s: &SurfaceBsdf, wo: Vec3, seed: u32) -> Result<(), String> {
+fn chi_square_fits(s: &SurfaceBsdf<'static>, wo: Vec3, seed: u32) -> Result<(), String> {
     let (n_theta, n_phi, samples) = (20usize, 40usize, 200_000u32);
     let cell = |w: Vec3| {
         let t = (((w.z + 1.0) * 0.5 * n_theta as f32) as usize).min(n_theta - 1);

@@ -142,7 +142,7 @@ fn side_normal(hit: &Hit, w: Vec3) -> Vec3 {
 
 /// Emission of the surface at `hit` toward `wo`, MIS-weighted against light sampling
 /// when the surface was found by a BSDF sample.
-fn emitted(scene: &RenderScene, hit: &Hit, bsdf: &SurfaceBsdf, wo: Vec3, previous: Option<Bounce>) -> Vec3 {
+fn emitted(scene: &RenderScene, hit: &Hit, bsdf: &SurfaceBsdf<'_>, wo: Vec3, previous: Option<Bounce>) -> Vec3 {
     let record = &bsdf.record;
     if !record.is_emissive() {
         return Vec3::ZERO;
@@ -184,7 +184,7 @@ fn environment_light(scene: &RenderScene, ray: &Ray, previous: Option<Bounce>) -
 fn direct_light(
     scene: &RenderScene,
     hit: &Hit,
-    bsdf: &SurfaceBsdf,
+    bsdf: &SurfaceBsdf<'_>,
     frame: &Frame,
     wo: Vec3,
     (u_select, u): (f32, Vec2),

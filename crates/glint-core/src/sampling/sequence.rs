@@ -52,10 +52,11 @@ pub struct PathSampler {
     dimension: u32,
 }
 
-/// Dimensions (counted in draws) that take Sobol points; later ones — the deep bounces
+/// Dimensions (counted in draws: the pixel, then three per vertex, so the camera and the
+/// first three vertices) that take Sobol points; later ones — the deep bounces
 /// of long paths, whose contributions are small and barely gain from stratification —
 /// take hashed numbers, which cost a fraction of a scrambled point.
-pub const SOBOL_DIMENSIONS: u32 = 24;
+pub const SOBOL_DIMENSIONS: u32 = 10;
 
 impl PathSampler {
     /// The stream of sample `index` of pixel (`px`, `py`).
@@ -137,7 +138,7 @@ mod tests {
 
     #[test]
     fn every_dimension_pair_of_a_power_of_two_prefix_is_stratified() {
-        for dim in [0, 1, 5, 17] {
+        for dim in [0, 1, 5, SOBOL_DIMENSIONS - 1] {
             for px in 0..8 {
                 let p = points(SamplerKind::Sobol, px, 64, dim);
                 // A (0,6,2)-net: one point in each of the 64 cells of every elementary
