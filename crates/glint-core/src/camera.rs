@@ -2,6 +2,7 @@
 
 use glam::{Mat4, Vec2, Vec3};
 
+use crate::bsdf::lobes::concentric_disk;
 use crate::desc::CameraDesc;
 use crate::math::Ray;
 
@@ -65,20 +66,6 @@ impl Camera {
         let origin = self.eye + on_lens.x * self.right + on_lens.y * self.up;
         Ray::new(origin, (focus - origin).normalize())
     }
-}
-
-/// Shirley & Chiu's concentric map from the unit square to the unit disk.
-fn concentric_disk(u: Vec2) -> Vec2 {
-    let d = 2.0 * u - Vec2::ONE;
-    if d == Vec2::ZERO {
-        return Vec2::ZERO;
-    }
-    let (r, theta) = if d.x.abs() > d.y.abs() {
-        (d.x, std::f32::consts::FRAC_PI_4 * (d.y / d.x))
-    } else {
-        (d.y, std::f32::consts::FRAC_PI_2 - std::f32::consts::FRAC_PI_4 * (d.x / d.y))
-    };
-    r * Vec2::new(theta.cos(), theta.sin())
 }
 
 #[cfg(test)]

@@ -160,6 +160,27 @@ pub fn boolean(src: &Source, node: &Node) -> Result<bool> {
     Err(src.invalid(value_pos(node), format!("expected true or false after '{}', found {found}", node.name)))
 }
 
+/// One of a fixed list of quoted words (`sampler "sobol"`), as the value it stands for.
+pub fn choice<T: Copy>(src: &Source, node: &Node, options: &[(&str, T)]) -> Result<T> {
+    no_block(src, node)?;
+    let found = match node.args.as_slice() {
+        [Value { kind: ValueKind::Str(word), .. }] => match options.iter().find(|(name, _)| name == word) {
+            Some(&(_, value)) => return Ok(value),
+            None => format!("\"{word}\""),
+        },
+        [] => "nothing".to_owned(),
+        [value] => value.describe(),
+        many => format!("{} values", many.len()),
+    };
+    let quoted: Vec<String> = options.iter().map(|(name, _)| format!("\"{name}\"")).collect();
+    let list = match quoted.split_last() {
+        Some((last, [])) => last.clone(),
+        Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+        None => String::new(),
+    };
+    Err(src.invalid(value_pos(node), format!("'{}' must be {list} (in quotes), found {found}", node.name)))
+}
+
 /// The single quoted string of a node (`material "glass"`), with its position.
 pub fn string(src: &Source, node: &Node, what: &str) -> Result<(String, Pos)> {
     let found = match node.args.as_slice() {

@@ -77,19 +77,5 @@ fn max_depth(src: &Source, prop: &Node) -> Result<u32> {
 
 /// `sampler "sobol"|"independent"`.
 fn sampler(src: &Source, prop: &Node) -> Result<SamplerKind> {
-    args::no_block(src, prop)?;
-    let found = match prop.args.as_slice() {
-        [Value { kind: ValueKind::Str(name), .. }] => match name.as_str() {
-            "sobol" => return Ok(SamplerKind::Sobol),
-            "independent" => return Ok(SamplerKind::Independent),
-            other => format!("\"{other}\""),
-        },
-        [] => "nothing".to_owned(),
-        [value] => value.describe(),
-        many => format!("{} values", many.len()),
-    };
-    Err(src.invalid(
-        args::value_pos(prop),
-        format!("'sampler' must be \"sobol\" or \"independent\" (in quotes), found {found}"),
-    ))
+    args::choice(src, prop, &[("sobol", SamplerKind::Sobol), ("independent", SamplerKind::Independent)])
 }

@@ -127,21 +127,6 @@ pub fn texture(src: &Source, name: &str, kind: &Node) -> Result<TextureDesc> {
 
 /// `microfacet "ggx"|"beckmann"`: the distribution of the BSDF's rough lobes.
 fn microfacet(src: &Source, prop: &Node) -> Result<glint_core::desc::MicrofacetKind> {
-    use super::tree::{Value, ValueKind};
     use glint_core::desc::MicrofacetKind;
-    args::no_block(src, prop)?;
-    let found = match prop.args.as_slice() {
-        [Value { kind: ValueKind::Str(name), .. }] => match name.as_str() {
-            "ggx" => return Ok(MicrofacetKind::Ggx),
-            "beckmann" => return Ok(MicrofacetKind::Beckmann),
-            other => format!("\"{other}\""),
-        },
-        [] => "nothing".to_owned(),
-        [value] => value.describe(),
-        many => format!("{} values", many.len()),
-    };
-    Err(src.invalid(
-        args::value_pos(prop),
-        format!("'microfacet' must be \"ggx\" or \"beckmann\" (in quotes), found {found}"),
-    ))
+    args::choice(src, prop, &[("ggx", MicrofacetKind::Ggx), ("beckmann", MicrofacetKind::Beckmann)])
 }

@@ -222,24 +222,13 @@ pub fn camera(src: &Source, node: &Node) -> Result<CameraDesc> {
 
 /// `fov_axis "y"|"x"|"diagonal"|"smaller"|"larger"`: the extent `fov` spans.
 fn fov_axis(src: &Source, prop: &Node) -> Result<glint_core::desc::FovAxis> {
-    use super::tree::{Value, ValueKind};
     use glint_core::desc::FovAxis;
-    args::no_block(src, prop)?;
-    let found = match prop.args.as_slice() {
-        [Value { kind: ValueKind::Str(name), .. }] => match name.as_str() {
-            "y" => return Ok(FovAxis::Y),
-            "x" => return Ok(FovAxis::X),
-            "diagonal" => return Ok(FovAxis::Diagonal),
-            "smaller" => return Ok(FovAxis::Smaller),
-            "larger" => return Ok(FovAxis::Larger),
-            other => format!("\"{other}\""),
-        },
-        [] => "nothing".to_owned(),
-        [value] => value.describe(),
-        many => format!("{} values", many.len()),
-    };
-    Err(src.invalid(
-        args::value_pos(prop),
-        format!("'fov_axis' must be \"y\", \"x\", \"diagonal\", \"smaller\" or \"larger\" (in quotes), found {found}"),
-    ))
+    let axes = [
+        ("y", FovAxis::Y),
+        ("x", FovAxis::X),
+        ("diagonal", FovAxis::Diagonal),
+        ("smaller", FovAxis::Smaller),
+        ("larger", FovAxis::Larger),
+    ];
+    args::choice(src, prop, &axes)
 }
