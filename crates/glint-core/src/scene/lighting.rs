@@ -64,7 +64,12 @@ fn environment(desc: &SceneDesc) -> Result<Option<Environment>, CompileError> {
         LightDesc::Environment(env) => Some(env),
         _ => None,
     });
-    let Some(env) = found.next() else { return Ok(None) };
+    let Some(env) = found.next() else {
+        // A background colour is a constant sky: sampled like one, seen the same.
+        let background = desc.settings.background;
+        let sky = background.max_element() > 0.0 && background.min_element() >= 0.0;
+        return Ok(sky.then(|| Environment::new(background, Vec::new(), 0, 0, Mat3::IDENTITY)));
+    };
     if found.next().is_some() {
         return Err(invalid("lights", "a scene can have at most one environment light"));
     }
