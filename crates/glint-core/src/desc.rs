@@ -201,6 +201,17 @@ impl Default for CameraDesc {
     }
 }
 
+/// The profile of a spot light's fade from full intensity (at `angle − penumbra`) to
+/// none (at `angle`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum SpotFalloff {
+    /// The smooth cubic `1 − (3x² − 2x³)`, x running 0→1 across the penumbra.
+    #[default]
+    Smooth,
+    /// Linear in the angle (Mitsuba's `spot`).
+    Linear,
+}
+
 /// Which extent of the image a camera's view angle spans.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum FovAxis {
@@ -246,7 +257,17 @@ pub enum LightDesc {
     Directional { direction: Vec3, color: Vec3 },
     /// A point light restricted to a cone: full intensity inside `angle − penumbra`,
     /// a smooth falloff to zero at `angle` (both half-angles from the axis, in degrees).
-    Spot { position: Vec3, direction: Vec3, color: Vec3, attenuation: Vec3, angle_degrees: f32, penumbra_degrees: f32 },
+    Spot {
+        position: Vec3,
+        direction: Vec3,
+        color: Vec3,
+        attenuation: Vec3,
+        angle_degrees: f32,
+        penumbra_degrees: f32,
+        /// How the intensity fades across the penumbra.
+        #[serde(default)]
+        falloff: SpotFalloff,
+    },
     /// A light with extent, sampled at `samples`×`samples` stratified points so its
     /// shadows have penumbrae; `color` is its total intensity, shared by the samples.
     Area { shape: AreaShape, color: Vec3, attenuation: Vec3, samples: u32 },

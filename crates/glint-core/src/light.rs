@@ -41,6 +41,8 @@ pub struct Light {
     pub radius: f32,
     /// Area lights: samples along each axis of the stratified pattern.
     pub samples_per_axis: u32,
+    /// Spot: 1 when the penumbra fades linearly in angle, 0 for the smooth cubic.
+    pub linear_falloff: u32,
 }
 
 /// What a surface point receives from one light before shadowing.
@@ -70,6 +72,7 @@ impl Light {
             edge_v: Vec3::ZERO,
             radius: 0.0,
             samples_per_axis: 1,
+            linear_falloff: 0,
         };
         Some(match *desc {
             LightDesc::Environment(_) => return None,
@@ -77,7 +80,7 @@ impl Light {
             LightDesc::Directional { direction, color } => {
                 Self { kind: LightKind::Directional, direction: direction.normalize(), color, ..base }
             }
-            LightDesc::Spot { position, direction, color, attenuation, angle_degrees, penumbra_degrees } => {
+            LightDesc::Spot { position, direction, color, attenuation, angle_degrees, penumbra_degrees, falloff } => {
                 let outer = angle_degrees.to_radians();
                 Self {
                     kind: LightKind::Spot,
@@ -87,6 +90,7 @@ impl Light {
                     attenuation,
                     outer_angle: outer,
                     inner_angle: (outer - penumbra_degrees.to_radians()).max(0.0),
+                    linear_falloff: (falloff == crate::desc::SpotFalloff::Linear) as u32,
                     ..base
                 }
             }
@@ -163,7 +167,7 @@ impl Light {
             return 0.0;
         }
         let x = (angle - self.inner_angle) / (self.outer_angle - self.inner_angle);
-        1.0 - x * x * (3.0 - 2.0 * x)
+        if self.linear_falloff != 0 { 1.0 - x } else { 1.0 - x * x * (3.0 - 2.0 * x) }
     }
 }
 
@@ -243,6 +247,7 @@ mod tests {
             attenuation: Vec3::X,
             angle_degrees: 30.0,
             penumbra_degrees: 10.0,
+            falloff: crate::desc::SpotFalloff::Smooth,
         })
         .unwrap();
         let at_angle = |deg: f32| {
@@ -254,5 +259,13 @@ mod tests {
         assert!((at_angle(25.0) - 0.5).abs() < 1e-3);
         assert_eq!(at_angle(31.0), 0.0);
         assert!(at_angle(22.0) > at_angle(24.0) && at_angle(24.0) > at_angle(28.0));
+        // A quarter into the penumbra: the cubic keeps 27/32, the linear fade 3/4.
+        assert!((at_angle(22.5) - 27.0 / 32.0).abs() < 1e-3);
+        let linear = Light { linear_falloff: 1, ..light };
+        let at = |deg: f32| {
+            let a = deg.to_radians();
+            linear.incidence(Vec3::new(a.sin(), -a.cos(), 0.0)).radiance.x
+        };
+        assert!((at(22.5) - 0.75).abs() < 1e-3 && (at(27.5) - 0.25).abs() < 1e-3);
     }
 }

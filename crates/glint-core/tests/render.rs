@@ -351,6 +351,7 @@ fn busy_scene() -> SceneDesc {
                 attenuation: Vec3::X,
                 angle_degrees: 35.0,
                 penumbra_degrees: 8.0,
+                falloff: SpotFalloff::Smooth,
             },
         ],
         materials,

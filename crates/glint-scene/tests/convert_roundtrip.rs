@@ -144,6 +144,7 @@ fn everything(texture: &Path) -> SceneDesc {
             attenuation: Vec3::X,
             angle_degrees: 25.0,
             penumbra_degrees: 4.5,
+            falloff: glint_core::desc::SpotFalloff::Linear,
         },
         LightDesc::Area {
             shape: AreaShape::Rectangle {

@@ -144,7 +144,8 @@ fn xml_every_element_and_attribute() {
                 color: Vec3::ONE,
                 attenuation: Vec3::X,
                 angle_degrees: 30.0,
-                penumbra_degrees: 5.0
+                penumbra_degrees: 5.0,
+                falloff: glint_core::desc::SpotFalloff::Smooth,
             },
             // No <type>: a point light, at the reader's default position.
             LightDesc::Point { position: Vec3::splat(3.0), color: Vec3::ONE, attenuation: Vec3::new(2.0, 0.0, 0.0) },

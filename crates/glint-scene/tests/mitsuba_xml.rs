@@ -362,10 +362,12 @@ fn lights_and_the_constant_environment() {
         LightDesc::Point { position: Vec3::new(1.0, 2.0, 3.0), color: Vec3::splat(5.0), attenuation: Vec3::Z }
     );
     match s.lights[1] {
-        LightDesc::Spot { position, direction, angle_degrees, penumbra_degrees, attenuation, .. } => {
+        LightDesc::Spot { position, direction, angle_degrees, penumbra_degrees, attenuation, falloff, .. } => {
             close(position, Vec3::new(0.0, 4.0, 0.0));
             close(direction, Vec3::NEG_Y);
             assert_eq!((angle_degrees, penumbra_degrees, attenuation), (40.0, 10.0, Vec3::Z));
+            // Mitsuba fades linearly in angle across the penumbra.
+            assert_eq!(falloff, glint_core::desc::SpotFalloff::Linear);
         }
         ref other => panic!("{other:?}"),
     }

@@ -260,6 +260,7 @@ fn lights_of_every_kind() {
                 attenuation: Vec3::X,
                 angle_degrees: 25.0,
                 penumbra_degrees: 4.0,
+                falloff: glint_core::desc::SpotFalloff::Smooth,
             },
         ]
     );
@@ -280,6 +281,7 @@ fn light_defaults() {
                 attenuation: Vec3::X,
                 angle_degrees: 30.0,
                 penumbra_degrees: 5.0,
+                falloff: glint_core::desc::SpotFalloff::Smooth,
             },
         ]
     );

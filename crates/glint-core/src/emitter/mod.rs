@@ -68,7 +68,8 @@ pub struct Emitter {
     pub attenuation: Vec3,
     pub cos_inner: f32,
     pub cos_outer: f32,
-    /// Area emitters: 1 when both sides emit (a two-sided material), else 0.
+    /// Area emitters: 1 when both sides emit (a two-sided material), else 0. Spot
+    /// lights: 1 when the penumbra fades linearly in angle (Mitsuba's), else 0.
     pub two_sided: u32,
 }
 
@@ -120,7 +121,7 @@ impl Emitter {
             LightDesc::Point { position, color, attenuation } => {
                 Self { p: position, radiance: color, attenuation, ..Self::empty(EmitterKind::Point) }
             }
-            LightDesc::Spot { position, direction, color, attenuation, angle_degrees, penumbra_degrees } => {
+            LightDesc::Spot { position, direction, color, attenuation, angle_degrees, penumbra_degrees, falloff } => {
                 let outer = angle_degrees.to_radians();
                 let inner = (outer - penumbra_degrees.to_radians()).max(0.0);
                 Self {
@@ -130,6 +131,7 @@ impl Emitter {
                     attenuation,
                     cos_inner: inner.cos(),
                     cos_outer: outer.cos(),
+                    two_sided: (falloff == crate::desc::SpotFalloff::Linear) as u32,
                     ..Self::empty(EmitterKind::Spot)
                 }
             }
@@ -233,8 +235,8 @@ impl Emitter {
         1.0 / (c1 + c2 * d + c3 * d * d)
     }
 
-    /// 1 inside the inner cone, 0 outside the outer one, the smooth cubic between (the
-    /// same profile as the Whitted spot light).
+    /// 1 inside the inner cone, 0 outside the outer one, the smooth cubic or the
+    /// linear fade between (the same profiles as the Whitted spot light).
     fn spot_falloff(&self, from_light: Vec3) -> f32 {
         let cos = from_light.dot(self.e1);
         if cos >= self.cos_inner {
@@ -245,7 +247,7 @@ impl Emitter {
         }
         let (inner, outer) = (self.cos_inner.clamp(-1.0, 1.0).acos(), self.cos_outer.clamp(-1.0, 1.0).acos());
         let x = (cos.clamp(-1.0, 1.0).acos() - inner) / (outer - inner);
-        1.0 - x * x * (3.0 - 2.0 * x)
+        if self.two_sided != 0 { 1.0 - x } else { 1.0 - x * x * (3.0 - 2.0 * x) }
     }
 
     /// Seen from outside, a uniform direction in the cone the sphere subtends (its

@@ -178,6 +178,7 @@ impl Builder<'_> {
                 attenuation,
                 angle_degrees: angle,
                 penumbra_degrees: penumbra.clamp(0.0, angle),
+                falloff: glint_core::desc::SpotFalloff::Smooth,
             },
             LightKind::Area { width, height } => {
                 self.warnings.at(

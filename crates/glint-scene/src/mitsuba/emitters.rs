@@ -86,6 +86,7 @@ fn spot(p: &Plugin) -> Result<LightDesc, SceneError> {
         attenuation: INVERSE_SQUARE,
         angle_degrees: cutoff,
         penumbra_degrees: cutoff - beam,
+        falloff: glint_core::desc::SpotFalloff::Linear,
     })
 }
 

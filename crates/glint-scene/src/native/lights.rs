@@ -31,7 +31,7 @@ pub fn light(src: &Source, kind: &Node, textures: &Registry, texture_descs: &[Te
     let allowed: &[&str] = match kind.name.as_str() {
         "point" => &["position", "color", "attenuation"],
         "directional" => &["direction", "color"],
-        "spot" => &["position", "direction", "color", "attenuation", "angle", "penumbra"],
+        "spot" => &["position", "direction", "color", "attenuation", "angle", "penumbra", "falloff"],
         "rectangle" => &["corner", "edge_u", "edge_v", "color", "attenuation", "samples"],
         "disk" => &["position", "normal", "radius", "color", "attenuation", "samples"],
         _ => &["position", "radius", "color", "attenuation", "samples"],
@@ -47,6 +47,7 @@ pub fn light(src: &Source, kind: &Node, textures: &Registry, texture_descs: &[Te
     let mut attenuation = NO_FALLOFF;
     let mut angle = SPOT_ANGLE;
     let mut penumbra = SPOT_PENUMBRA;
+    let mut falloff = glint_core::desc::SpotFalloff::Smooth;
     let mut seen = Seen::default();
     let place = format!("in 'light {}'", kind.name);
     for prop in kind.children() {
@@ -69,6 +70,10 @@ pub fn light(src: &Source, kind: &Node, textures: &Registry, texture_descs: &[Te
                 angle = args::number_where(src, prop, "a half-angle above 0 and at most 90 degrees", |x| {
                     x > 0.0 && x <= 90.0
                 })?;
+            }
+            "falloff" => {
+                use glint_core::desc::SpotFalloff;
+                falloff = args::choice(src, prop, &[("smooth", SpotFalloff::Smooth), ("linear", SpotFalloff::Linear)])?;
             }
             _ => {
                 penumbra = args::number_where(src, prop, "0 degrees or more", |x| x >= 0.0)?;
@@ -100,6 +105,7 @@ pub fn light(src: &Source, kind: &Node, textures: &Registry, texture_descs: &[Te
                 attenuation,
                 angle_degrees: angle,
                 penumbra_degrees: penumbra,
+                falloff,
             }
         }
     })

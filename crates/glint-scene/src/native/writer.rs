@@ -404,15 +404,18 @@ impl Writer {
                 vec3(direction, "light direction")?,
                 vec3(color, "light color")?
             ),
-            &LightDesc::Spot { position, direction, color, attenuation, angle_degrees, penumbra_degrees } => format!(
-                "light spot {{ position {} direction {} color {} attenuation {} angle {} penumbra {} }}",
-                vec3(position, "light position")?,
-                vec3(direction, "light direction")?,
-                vec3(color, "light color")?,
-                vec3(attenuation, "light attenuation")?,
-                num(angle_degrees, "light angle")?,
-                num(penumbra_degrees, "light penumbra")?
-            ),
+            &LightDesc::Spot { position, direction, color, attenuation, angle_degrees, penumbra_degrees, falloff } => {
+                format!(
+                    "light spot {{ position {} direction {} color {} attenuation {} angle {} penumbra {}{} }}",
+                    vec3(position, "light position")?,
+                    vec3(direction, "light direction")?,
+                    vec3(color, "light color")?,
+                    vec3(attenuation, "light attenuation")?,
+                    num(angle_degrees, "light angle")?,
+                    num(penumbra_degrees, "light penumbra")?,
+                    if falloff == glint_core::desc::SpotFalloff::Linear { " falloff \"linear\"" } else { "" }
+                )
+            }
             &LightDesc::Area { shape, color, attenuation, samples } => {
                 let what = "area light";
                 let (kind, place) = match shape {

@@ -169,8 +169,13 @@ proptest! {
             let g = gradient(&code, p);
             let slope = g.g.dot(d);
             // Kinks (abs at 0, min/max switching) have one-sided slopes; skip non-finite.
+            // The reference slope is itself a rounded dot product whose terms may cancel:
+            // allow it a few ulps of the terms' magnitude outside the enclosure.
+            let magnitude = (g.g * d).abs().element_sum();
+            let slack = 8.0 * f64::EPSILON * magnitude.max(f64::MIN_POSITIVE);
+            let near = e.d.lo - slack <= slope && slope <= e.d.hi + slack;
             if slope.is_finite() && v.is_finite() {
-                prop_assert!(e.d.contains(slope) || e.d.lo.is_nan(), "{text}: f'({s}) = {slope} not in {:?}", e.d);
+                prop_assert!(near || e.d.lo.is_nan(), "{text}: f'({s}) = {slope} not in {:?}", e.d);
             }
         }
     }
