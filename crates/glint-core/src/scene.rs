@@ -212,6 +212,9 @@ pub fn compile(desc: &SceneDesc) -> Result<RenderScene, CompileError> {
     instances.extend(unbounded);
 
     let has_transmissive = materials.iter().any(Material::is_transmissive);
+    for m in &desc.materials {
+        validate_bsdf(m, desc.textures.len())?;
+    }
     let bsdfs: Vec<Bsdf> = desc.materials.iter().map(Bsdf::compile).collect();
     let lighting = lighting::compile(desc, &instances, &meshes, &bsdfs, bvh.bounds())?;
     Ok(RenderScene {
@@ -235,6 +238,46 @@ pub fn compile(desc: &SceneDesc) -> Result<RenderScene, CompileError> {
         environment: lighting.environment,
         environment_emitter: lighting.environment_emitter,
     })
+}
+
+/// A material's physically based parameters make sense: finite, non-negative colours and
+/// roughness, positive indices, textures that exist, emission that is finite and ≥ 0.
+fn validate_bsdf(m: &crate::desc::MaterialDesc, texture_count: usize) -> Result<(), CompileError> {
+    use crate::desc::BsdfDesc;
+    let colour = |c: Vec3| c.is_finite() && c.min_element() >= 0.0;
+    let texture_ok = |t: Option<usize>| t.is_none_or(|i| i < texture_count);
+    let ior_ok = |a: f32, b: f32| a.is_finite() && b.is_finite() && a > 0.0 && b > 0.0;
+    let alpha_ok = |a: crate::desc::ScalarParam| a.value.is_finite() && a.value >= 0.0 && texture_ok(a.texture);
+    let valid = match m.bsdf {
+        None => true,
+        Some(BsdfDesc::Diffuse { reflectance }) => colour(reflectance.value) && texture_ok(reflectance.texture),
+        Some(BsdfDesc::Conductor { eta, k, specular, alpha }) => {
+            colour(eta) && colour(k) && colour(specular.value) && texture_ok(specular.texture) && alpha_ok(alpha)
+        }
+        Some(BsdfDesc::Dielectric { int_ior, ext_ior, reflectance, transmittance, alpha }) => {
+            ior_ok(int_ior, ext_ior) && colour(reflectance) && colour(transmittance) && alpha_ok(alpha)
+        }
+        Some(BsdfDesc::ThinDielectric { int_ior, ext_ior, reflectance, transmittance }) => {
+            ior_ok(int_ior, ext_ior) && colour(reflectance) && colour(transmittance)
+        }
+        Some(BsdfDesc::Plastic { diffuse, int_ior, ext_ior, specular, alpha, .. }) => {
+            colour(diffuse.value)
+                && texture_ok(diffuse.texture)
+                && ior_ok(int_ior, ext_ior)
+                && colour(specular)
+                && alpha_ok(alpha)
+        }
+    };
+    if !valid {
+        return Err(invalid(
+            &m.name,
+            "BSDF values must be finite, colours and roughness >= 0, indices of refraction > 0, and textures must exist",
+        ));
+    }
+    if !colour(m.emission) {
+        return Err(invalid(&m.name, "emission must be finite and >= 0"));
+    }
+    Ok(())
 }
 
 /// The thin-lens parameters make sense.

@@ -44,6 +44,10 @@ pub const TWO_SIDED: u32 = 1;
 pub const NONLINEAR: u32 = 2;
 /// Record flag: rough lobes use the Beckmann distribution instead of GGX.
 pub const BECKMANN: u32 = 4;
+/// Record flag: the surface emits from both sides (its material is two-sided), not
+/// only from the side its normal points to. Kept apart from [`TWO_SIDED`], which
+/// dielectrics and the Phong reading force on for scattering.
+pub const EMITS_BOTH_SIDES: u32 = 8;
 
 /// A compiled BSDF with the emission of its material, as flat data.
 ///
@@ -88,7 +92,7 @@ impl Bsdf {
     pub fn compile(desc: &MaterialDesc) -> Self {
         let base = Self {
             kind: BsdfKind::Diffuse,
-            flags: if desc.two_sided { TWO_SIDED } else { 0 }
+            flags: if desc.two_sided { TWO_SIDED | EMITS_BOTH_SIDES } else { 0 }
                 | if desc.microfacet == crate::desc::MicrofacetKind::Beckmann { BECKMANN } else { 0 },
             color: Vec3::ZERO,
             color_texture: NO_TEXTURE,
@@ -122,6 +126,16 @@ impl Bsdf {
             BsdfDesc::Diffuse { reflectance } => with_color(base, reflectance),
             BsdfDesc::Conductor { eta, k, specular, alpha } => {
                 with_alpha(with_color(Self { kind: BsdfKind::Conductor, eta, k, ..base }, specular), alpha)
+            }
+            // Matched indices make an interface light passes straight through: smooth.
+            BsdfDesc::Dielectric { int_ior, ext_ior, reflectance, transmittance, alpha: _ } if int_ior == ext_ior => {
+                Self {
+                    kind: BsdfKind::Dielectric,
+                    flags: base.flags | TWO_SIDED,
+                    specular: reflectance,
+                    transmittance,
+                    ..base
+                }
             }
             BsdfDesc::Dielectric { int_ior, ext_ior, reflectance, transmittance, alpha } => with_alpha(
                 Self {

@@ -4,7 +4,7 @@ use glam::{Mat4, Vec3};
 use std::f32::consts::PI;
 
 use super::{Emitter, EmitterKind, NO_EMITTER};
-use crate::bsdf::{Bsdf, TWO_SIDED};
+use crate::bsdf::{Bsdf, EMITS_BOTH_SIDES};
 use crate::mesh::Mesh;
 use crate::scene::{Instance, NO_MOTION};
 use crate::shape::ShapeKind;
@@ -22,7 +22,7 @@ pub fn emitters_of_instances(instances: &[Instance], meshes: &[Mesh], bsdfs: &[B
         let placed = bsdf.is_emissive() && inst.motion == NO_MOTION && {
             let before = emitters.len();
             push_instance(inst, meshes, bsdf.emission, &mut emitters);
-            let two_sided = (bsdf.flags & TWO_SIDED != 0) as u32;
+            let two_sided = (bsdf.flags & EMITS_BOTH_SIDES != 0) as u32;
             emitters[before..].iter_mut().for_each(|e| e.two_sided = two_sided);
             emitters.len() > before
         };

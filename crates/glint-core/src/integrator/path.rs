@@ -70,6 +70,9 @@ pub fn radiance(
         crate::desc::IntegratorDesc::Path(p) => p,
         crate::desc::IntegratorDesc::Whitted => PathDesc::default(),
     };
+    if limits.max_depth == 0 {
+        return Vec3::ZERO;
+    }
     let mut radiance = Vec3::ZERO;
     let mut throughput = Vec3::ONE;
     let mut eta = 1.0f32;
@@ -109,9 +112,12 @@ pub fn radiance(
         }
         let u_lobe = choices.y;
         let Some(sample) = bsdf.sample(wo, u_lobe, u_dir) else { break };
+        let wi = frame.to_world(sample.wi);
+        if !same_side_story(&hit, (wo_world, wi), (wo, sample.wi)) {
+            break;
+        }
         throughput *= sample.weight;
         eta *= sample.eta;
-        let wi = frame.to_world(sample.wi);
         ray = Ray::new(offset_ray_origin(hit.point, side_normal(&hit, wi)), wi).at_time(ray.time);
         previous = Some(Bounce { point: hit.point, pdf: sample.pdf, delta: sample.delta });
         depth += 1;
@@ -133,6 +139,16 @@ pub fn radiance(
     radiance
 }
 
+/// Whether the shading frame and the true surface agree that `wi` is a reflection (same
+/// side as `wo`) or a transmission. Interpolated mesh normals can make a direction above
+/// the shading surface lie below the true one; following it would leak light through
+/// the surface (Veach 1997, §5.3), so such directions carry nothing.
+#[inline]
+fn same_side_story(hit: &Hit, (wo_world, wi_world): (Vec3, Vec3), (wo, wi): (Vec3, Vec3)) -> bool {
+    let ng = hit.geometric_normal;
+    (wo.z * wi.z > 0.0) == (ng.dot(wo_world) * ng.dot(wi_world) > 0.0)
+}
+
 /// The geometric normal on the side `w` leaves from: secondary rays start off the
 /// surface on that side.
 #[inline]
@@ -147,15 +163,16 @@ fn emitted(scene: &RenderScene, hit: &Hit, bsdf: &SurfaceBsdf<'_>, wo: Vec3, pre
     if !record.is_emissive() {
         return Vec3::ZERO;
     }
-    let front = hit.normal.dot(wo) > 0.0;
-    if !front && record.flags & crate::bsdf::TWO_SIDED == 0 {
+    // The true surface decides the side and the density, as light sampling sees it.
+    let front = hit.geometric_normal.dot(wo) > 0.0;
+    if !front && record.flags & crate::bsdf::EMITS_BOTH_SIDES == 0 {
         return Vec3::ZERO;
     }
     let weight = match previous {
         Some(b) if !b.delta => match (scene.emitter_of(hit), &scene.light_selection) {
             (Some(index), Some(selection)) => {
                 let light_pdf = selection.probability(index as usize)
-                    * scene.emitters[index as usize].pdf(b.point, hit.point, hit.normal);
+                    * scene.emitters[index as usize].pdf(b.point, hit.point, hit.geometric_normal);
                 power_heuristic(b.pdf, light_pdf)
             }
             _ => 1.0,
@@ -208,6 +225,9 @@ fn direct_light(
         return Vec3::ZERO;
     }
     let wi = frame.to_local(sample.wi);
+    if !same_side_story(hit, (frame.to_world(wo), sample.wi), (wo, wi)) {
+        return Vec3::ZERO;
+    }
     let f = bsdf.eval(wo, wi) * wi.z.abs();
     if f == Vec3::ZERO {
         return Vec3::ZERO;

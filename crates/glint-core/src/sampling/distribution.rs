@@ -22,20 +22,19 @@ impl Distribution1D {
         if weights.iter().any(|w| !(w.is_finite() && *w >= 0.0)) {
             return None;
         }
-        let mut cdf = Vec::with_capacity(weights.len() + 1);
+        // Partial sums in f64, normalized once: bins of zero weight get exactly zero width
+        // (trailing ones included), so they can never be chosen.
+        let mut partial = Vec::with_capacity(weights.len() + 1);
         let mut sum = 0.0f64;
-        cdf.push(0.0);
+        partial.push(0.0f64);
         for &w in &weights {
             sum += w as f64;
-            cdf.push(sum as f32);
+            partial.push(sum);
         }
         if sum.is_nan() || sum <= 0.0 {
             return None;
         }
-        for c in &mut cdf {
-            *c = (*c as f64 / sum) as f32;
-        }
-        *cdf.last_mut()? = 1.0;
+        let cdf: Vec<f32> = partial.iter().map(|&p| (p / sum) as f32).collect();
         Some(Self { weights, cdf, total: sum as f32 })
     }
 
@@ -151,6 +150,10 @@ mod tests {
             assert!((c as f32 / n as f32 - d.probability(i)).abs() < 0.01, "{i}: {c}");
         }
         assert!(Distribution1D::new(vec![0.0, 0.0]).is_none());
+        // Zero weights after the last positive one are never chosen, whatever the rounding.
+        let tail = Distribution1D::new(vec![0.1, 0.7, 0.3, 0.0, 0.0]).unwrap();
+        assert_eq!((tail.probability(3), tail.probability(4)), (0.0, 0.0));
+        assert_eq!(tail.sample_discrete(0.999_999_94).0, 2);
         assert!(Distribution1D::new(vec![1.0, f32::NAN]).is_none());
     }
 

@@ -40,10 +40,11 @@ pub(super) fn compile(
     } else {
         1.0
     };
-    let powers: Vec<f32> = emitters.iter().map(|e| e.power(radius, environment.as_ref()).max(0.0)).collect();
+    let powers: Vec<f32> = emitters.iter().map(|e| e.power(radius, environment.as_ref())).collect();
     if powers.iter().any(|p| !p.is_finite()) {
         return Err(invalid("lights", "an emitter's power is not finite"));
     }
+    let powers = powers.into_iter().map(|p| p.max(0.0)).collect();
     Ok(Lighting {
         selection: Distribution1D::new(powers),
         emitters,
@@ -86,13 +87,18 @@ fn environment(desc: &SceneDesc) -> Result<Option<Environment>, CompileError> {
         return Ok(Some(Environment::new(env.radiance, Vec::new(), 0, 0, rotation)));
     };
     match desc.textures.get(index) {
-        Some(TextureDesc::Image { width, height, texels, .. }) if *height >= 2 && !texels.is_empty() => {
+        Some(TextureDesc::Image { width, height, texels, .. })
+            if *height >= 2 && *width >= 1 && texels.len() == *width as usize * *height as usize =>
+        {
             if texels.iter().any(|t| !t.is_finite()) {
                 return Err(invalid("environment light", "the map has non-finite texels"));
             }
             Ok(Some(Environment::new(env.radiance, texels.clone(), *width as usize, *height as usize, rotation)))
         }
-        Some(_) => Err(invalid("environment light", "the map must be an image at least 2 pixels high")),
+        Some(_) => Err(invalid(
+            "environment light",
+            "the map must be an image at least 2 pixels high with width × height texels",
+        )),
         None => Err(invalid("environment light", format!("texture index {index} out of range"))),
     }
 }
