@@ -68,9 +68,10 @@ pub struct Emitter {
     pub attenuation: Vec3,
     pub cos_inner: f32,
     pub cos_outer: f32,
-    /// Area emitters: 1 when both sides emit (a two-sided material), else 0. Spot
-    /// lights: 1 when the penumbra fades linearly in angle (Mitsuba's), else 0.
+    /// Area emitters: 1 when both sides emit (a two-sided material), else 0.
     pub two_sided: u32,
+    /// Spot lights: 1 when the penumbra fades linearly in angle (Mitsuba's), else 0.
+    pub linear_falloff: u32,
 }
 
 /// A direction toward an emitter, chosen from a shading point.
@@ -102,6 +103,7 @@ impl Emitter {
             cos_inner: 1.0,
             cos_outer: 1.0,
             two_sided: 0,
+            linear_falloff: 0,
         }
     }
 
@@ -131,7 +133,7 @@ impl Emitter {
                     attenuation,
                     cos_inner: inner.cos(),
                     cos_outer: outer.cos(),
-                    two_sided: (falloff == crate::desc::SpotFalloff::Linear) as u32,
+                    linear_falloff: (falloff == crate::desc::SpotFalloff::Linear) as u32,
                     ..Self::empty(EmitterKind::Spot)
                 }
             }
@@ -247,7 +249,7 @@ impl Emitter {
         }
         let (inner, outer) = (self.cos_inner.clamp(-1.0, 1.0).acos(), self.cos_outer.clamp(-1.0, 1.0).acos());
         let x = (cos.clamp(-1.0, 1.0).acos() - inner) / (outer - inner);
-        if self.two_sided != 0 { 1.0 - x } else { 1.0 - x * x * (3.0 - 2.0 * x) }
+        if self.linear_falloff != 0 { 1.0 - x } else { 1.0 - x * x * (3.0 - 2.0 * x) }
     }
 
     /// Seen from outside, a uniform direction in the cone the sphere subtends (its
