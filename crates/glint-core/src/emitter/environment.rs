@@ -80,6 +80,12 @@ impl Environment {
     }
 
     /// Mean radiance (luminance) over all directions.
+    /// The texel distribution importance sampling draws from (`None` for a constant
+    /// environment), for backends that sample it themselves.
+    pub fn distribution(&self) -> Option<&Distribution2D> {
+        self.distribution.as_ref()
+    }
+
     pub fn power(&self) -> f32 {
         self.mean_luminance * 4.0 * PI
     }

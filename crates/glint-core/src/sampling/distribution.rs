@@ -42,6 +42,12 @@ impl Distribution1D {
         self.weights.len()
     }
 
+    /// The normalized partial sums, `len() + 1` of them from 0 to 1: what a GPU
+    /// backend uploads to sample the same bins by the same search.
+    pub fn cdf(&self) -> &[f32] {
+        &self.cdf
+    }
+
     pub fn is_empty(&self) -> bool {
         self.weights.is_empty()
     }
@@ -122,6 +128,12 @@ impl Distribution2D {
     }
 
     /// Columns per row.
+    /// The distribution over rows, then one distribution per row: the tables a GPU
+    /// backend uploads.
+    pub fn parts(&self) -> (&Distribution1D, &[Distribution1D]) {
+        (&self.marginal, &self.rows)
+    }
+
     pub fn width(&self) -> usize {
         self.width
     }

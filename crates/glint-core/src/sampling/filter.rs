@@ -45,6 +45,12 @@ impl Filter {
     }
 
     /// The weight of a sample at offset (`dx`, `dy`) pixels from a pixel centre.
+    /// The factor `eval` applies to make the filter integrate to one, for backends
+    /// that evaluate the same formula themselves.
+    pub fn normalization(&self) -> f32 {
+        self.scale
+    }
+
     #[inline]
     pub fn eval(&self, dx: f32, dy: f32) -> f32 {
         self.eval_1d(dx) * self.eval_1d(dy) * self.scale * self.scale

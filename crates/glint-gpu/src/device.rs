@@ -1,0 +1,88 @@
+//! Finding a GPU and opening it, with one clear sentence when that cannot be done.
+
+use crate::shader::binding;
+
+/// Why the GPU backend cannot render.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum GpuError {
+    #[error(
+        "no GPU adapter found (Vulkan, Metal or DX12); install the GPU's driver, or Mesa's CPU driver \
+         lavapipe (Debian: mesa-vulkan-drivers), or render with --device cpu"
+    )]
+    NoAdapter,
+    #[error("the GPU adapter '{adapter}' cannot run glint's kernels: {reason}")]
+    Unsuitable { adapter: String, reason: String },
+    #[error("this scene cannot be rendered on the GPU yet: {0}; render it with --device cpu")]
+    Unsupported(String),
+    #[error(
+        "the scene's {what} take {needed} bytes in one buffer, over this adapter's limit \
+         max_storage_buffer_binding_size = {limit} bytes; render it with --device cpu"
+    )]
+    TooLarge { what: &'static str, needed: u64, limit: u64 },
+    #[error("the GPU reported an error: {0}")]
+    Device(String),
+}
+
+/// An opened GPU: the device and queue every kernel runs on, and what it is.
+pub struct Gpu {
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub info: wgpu::AdapterInfo,
+    pub limits: wgpu::Limits,
+}
+
+impl Gpu {
+    /// Opens the most capable adapter (a discrete GPU before an integrated one, a
+    /// software one such as lavapipe last), with the adapter's own limits so large
+    /// scenes fit where the hardware allows.
+    pub fn new() -> Result<Gpu, GpuError> {
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let options = wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            ..Default::default()
+        };
+        let adapter = pollster::block_on(instance.request_adapter(&options)).map_err(|_| GpuError::NoAdapter)?;
+        let info = adapter.get_info();
+        let limits = adapter.limits();
+        let unsuitable = |reason: String| GpuError::Unsuitable { adapter: info.name.clone(), reason };
+        if limits.max_storage_buffers_per_shader_stage < binding::STORAGE_COUNT {
+            return Err(unsuitable(format!(
+                "it allows {} storage buffers per shader stage (max_storage_buffers_per_shader_stage), glint needs {}",
+                limits.max_storage_buffers_per_shader_stage,
+                binding::STORAGE_COUNT
+            )));
+        }
+        let descriptor = wgpu::DeviceDescriptor {
+            label: Some("glint"),
+            required_features: wgpu::Features::empty(),
+            required_limits: limits.clone(),
+            ..Default::default()
+        };
+        let (device, queue) = pollster::block_on(adapter.request_device(&descriptor))
+            .map_err(|e| unsuitable(format!("opening it failed: {e}")))?;
+        Ok(Gpu { device, queue, info, limits })
+    }
+
+    /// Whether the adapter is a real GPU rather than a CPU driver (lavapipe,
+    /// SwiftShader, WARP): `--device auto` renders on glint's own CPU path instead of
+    /// one of those.
+    pub fn is_hardware(&self) -> bool {
+        self.info.device_type != wgpu::DeviceType::Cpu
+    }
+
+    /// "name (backend, driver)", for saying where a render runs.
+    pub fn describe(&self) -> String {
+        let driver = if self.info.driver.is_empty() { String::new() } else { format!(", {}", self.info.driver) };
+        format!("{} ({:?}{driver})", self.info.name, self.info.backend)
+    }
+
+    /// Runs `work` with validation errors captured instead of aborting the process.
+    pub(crate) fn checked<T>(&self, what: &str, work: impl FnOnce() -> T) -> Result<T, GpuError> {
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let value = work();
+        match pollster::block_on(scope.pop()) {
+            None => Ok(value),
+            Some(e) => Err(GpuError::Device(format!("{what}: {e}"))),
+        }
+    }
+}

@@ -1,0 +1,214 @@
+//! The records the shaders read: glint-core's compiled-scene records as they are, and
+//! the few the GPU layout adds (mesh offsets into the concatenated arrays, per-pass
+//! parameters). Each is declared once here; the WGSL structs are generated from these
+//! declarations (see [`crate::layout`]).
+
+use bytemuck::{Pod, Zeroable};
+use glam::Mat4;
+use glint_core::accel::WideNode;
+use glint_core::bsdf::Bsdf;
+use glint_core::emitter::Emitter;
+use glint_core::mesh::Triangle4;
+use glint_core::scene::Instance;
+use glint_core::texture::Texture;
+
+use crate::gpu_record;
+use crate::layout::Record;
+
+gpu_record!(pub INSTANCE = Instance as "Instance" {
+    world_from_object: Mat4 => transform.world_from_object,
+    object_from_world: Mat4 => transform.object_from_world,
+    kind: U32 => shape.kind,
+    param: F32 => shape.param,
+    material: U32 => material,
+    motion: U32 => motion,
+});
+
+gpu_record!(pub WIDE_NODE = WideNode as "WideNode" {
+    bounds: F32s(48) => bounds,
+    child: U32s(8) => child,
+    count: U32s(8) => count,
+});
+
+gpu_record!(pub TRIANGLE4 = Triangle4 as "Triangle4" {
+    p: F32s(36) => p,
+    triangle: U32s(4) => triangle,
+});
+
+gpu_record!(pub BSDF = Bsdf as "Bsdf" {
+    kind: U32 => kind,
+    flags: U32 => flags,
+    color: Vec3 => color,
+    color_texture: U32 => color_texture,
+    texture_scale: Vec3 => texture_scale,
+    blend: F32 => blend,
+    uv_repeat: Vec2 => uv_repeat,
+    specular: Vec3 => specular,
+    transmittance: Vec3 => transmittance,
+    eta: Vec3 => eta,
+    k: Vec3 => k,
+    alpha: F32 => alpha,
+    alpha_texture: U32 => alpha_texture,
+    glossy: Vec3 => glossy,
+    exponent: F32 => exponent,
+    internal_reflectance: F32 => internal_reflectance,
+    coat_transmittance: F32s(32) => coat_transmittance,
+    emission: Vec3 => emission,
+});
+
+gpu_record!(pub EMITTER = Emitter as "Emitter" {
+    kind: U32 => kind,
+    p: Vec3 => p,
+    e1: Vec3 => e1,
+    e2: Vec3 => e2,
+    normal: Vec3 => normal,
+    radiance: Vec3 => radiance,
+    size: F32 => size,
+    attenuation: Vec3 => attenuation,
+    cos_inner: F32 => cos_inner,
+    cos_outer: F32 => cos_outer,
+    two_sided: U32 => two_sided,
+    linear_falloff: U32 => linear_falloff,
+});
+
+gpu_record!(pub TEXTURE = Texture as "Texture" {
+    kind: U32 => kind,
+    width: U32 => width,
+    height: U32 => height,
+    offset: U32 => offset,
+    even: Vec3 => even,
+    odd: Vec3 => odd,
+    cells: Vec2 => cells,
+});
+
+/// Where one mesh's data starts in the concatenated arrays: its BVH nodes and triangle
+/// packets (whose indices stay mesh-relative), and its vertices, indices and optional
+/// attributes in the shared float and word arrays.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuMesh {
+    pub node_offset: u32,
+    pub packet_offset: u32,
+    /// Index into the float array of vertex 0's x.
+    pub position_offset: u32,
+    /// Index into the word array of triangle 0's first vertex index.
+    pub index_offset: u32,
+    /// Float-array index of the normals, or [`NONE`] without them.
+    pub normal_offset: u32,
+    /// Float-array index of the uvs, or [`NONE`] without them.
+    pub uv_offset: u32,
+    /// Whether the mesh has nodes at all (an empty mesh hits nothing).
+    pub node_count: u32,
+    pub reserved: u32,
+}
+
+/// "No such array" in an offset field.
+pub const NONE: u32 = u32::MAX;
+
+gpu_record!(pub GPU_MESH = GpuMesh as "GpuMesh" {
+    node_offset: U32 => node_offset,
+    packet_offset: U32 => packet_offset,
+    position_offset: U32 => position_offset,
+    index_offset: U32 => index_offset,
+    normal_offset: U32 => normal_offset,
+    uv_offset: U32 => uv_offset,
+    node_count: U32 => node_count,
+    reserved: U32 => reserved,
+});
+
+/// Everything a pass needs besides the scene arrays: image and sample range, the
+/// integrator's settings, the camera, the environment and the filter. A uniform, so
+/// only scalars, `vec4` and `mat4x4` (no 4-byte-stride arrays).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct Params {
+    pub width: u32,
+    pub height: u32,
+    /// Index of the pass's first sample per pixel.
+    pub sample_offset: u32,
+    /// Samples per pixel in this pass.
+    pub pass_samples: u32,
+    pub seed: u32,
+    /// 0 = Sobol, 1 = independent.
+    pub sampler: u32,
+    pub max_depth: u32,
+    pub rr_depth: u32,
+    pub bounded_count: u32,
+    pub instance_count: u32,
+    /// Number of emitters (0: no light to sample).
+    pub emitter_count: u32,
+    /// Float-array index of the light-selection cdf (`emitter_count + 1` entries).
+    pub light_cdf_offset: u32,
+    pub environment_emitter: u32,
+    /// 0: constant background; 1: constant environment light; 2: image map.
+    pub environment_kind: u32,
+    pub env_width: u32,
+    pub env_height: u32,
+    pub env_texel_offset: u32,
+    /// Float-array index of the map's marginal cdf, followed by each row's cdf.
+    pub env_cdf_offset: u32,
+    pub filter_kind: u32,
+    pub filter_radius: f32,
+    pub filter_scale: f32,
+    pub aperture_radius: f32,
+    pub focal_distance: f32,
+    pub node_count: u32,
+    /// Float-array index of the texture texels.
+    pub texel_offset: u32,
+    /// Word-array index of the per-instance first emitter.
+    pub instance_emitter_offset: u32,
+    pub reserved0: u32,
+    pub reserved1: u32,
+    pub background: [f32; 4],
+    pub env_scale: [f32; 4],
+    pub eye: [f32; 4],
+    pub right: [f32; 4],
+    pub up: [f32; 4],
+    pub forward: [f32; 4],
+    pub world_from_canonical: Mat4,
+    pub env_from_world: Mat4,
+    pub world_from_env: Mat4,
+}
+
+gpu_record!(pub PARAMS = Params as "Params" {
+    width: U32 => width,
+    height: U32 => height,
+    sample_offset: U32 => sample_offset,
+    pass_samples: U32 => pass_samples,
+    seed: U32 => seed,
+    sampler: U32 => sampler,
+    max_depth: U32 => max_depth,
+    rr_depth: U32 => rr_depth,
+    bounded_count: U32 => bounded_count,
+    instance_count: U32 => instance_count,
+    emitter_count: U32 => emitter_count,
+    light_cdf_offset: U32 => light_cdf_offset,
+    environment_emitter: U32 => environment_emitter,
+    environment_kind: U32 => environment_kind,
+    env_width: U32 => env_width,
+    env_height: U32 => env_height,
+    env_texel_offset: U32 => env_texel_offset,
+    env_cdf_offset: U32 => env_cdf_offset,
+    filter_kind: U32 => filter_kind,
+    filter_radius: F32 => filter_radius,
+    filter_scale: F32 => filter_scale,
+    aperture_radius: F32 => aperture_radius,
+    focal_distance: F32 => focal_distance,
+    node_count: U32 => node_count,
+    texel_offset: U32 => texel_offset,
+    instance_emitter_offset: U32 => instance_emitter_offset,
+    reserved0: U32 => reserved0,
+    reserved1: U32 => reserved1,
+    background: Vec4 => background,
+    env_scale: Vec4 => env_scale,
+    eye: Vec4 => eye,
+    right: Vec4 => right,
+    up: Vec4 => up,
+    forward: Vec4 => forward,
+    world_from_canonical: Mat4 => world_from_canonical,
+    env_from_world: Mat4 => env_from_world,
+    world_from_env: Mat4 => world_from_env,
+});
+
+/// Every record, for the layout test and for generating the shader prelude.
+pub const ALL: [Record; 8] = [INSTANCE, WIDE_NODE, TRIANGLE4, BSDF, EMITTER, TEXTURE, GPU_MESH, PARAMS];

@@ -1,0 +1,67 @@
+//! The WGSL program: record structs and bindings generated from [`crate::records`],
+//! then the hand-written modules, in dependency order.
+
+use crate::records::{self, ALL};
+
+/// Binding numbers of group 0, shared by every kernel.
+pub mod binding {
+    pub const PARAMS: u32 = 0;
+    pub const INSTANCES: u32 = 1;
+    pub const NODES: u32 = 2;
+    pub const PACKETS: u32 = 3;
+    pub const MESHES: u32 = 4;
+    pub const BSDFS: u32 = 5;
+    pub const EMITTERS: u32 = 6;
+    pub const FLOATS: u32 = 7;
+    pub const WORDS: u32 = 8;
+    pub const TEXTURES: u32 = 9;
+    pub const SAMPLES: u32 = 10;
+    pub const ACCUM: u32 = 11;
+    /// Storage buffers (everything but the parameters).
+    pub const STORAGE_COUNT: u32 = 11;
+}
+
+const MODULES: [&str; 6] = [
+    include_str!("shaders/common.wgsl"),
+    include_str!("shaders/geometry.wgsl"),
+    include_str!("shaders/bsdf.wgsl"),
+    include_str!("shaders/emitter.wgsl"),
+    include_str!("shaders/path.wgsl"),
+    include_str!("shaders/film.wgsl"),
+];
+
+/// The record structs, in WGSL.
+pub fn structs() -> String {
+    ALL.iter().map(|r| r.wgsl()).collect::<Vec<_>>().join("\n")
+}
+
+/// The declarations of group 0.
+pub fn bindings() -> String {
+    use binding::*;
+    let storage = |b: u32, name: &str, ty: &str| format!("@group(0) @binding({b}) var<storage, read> {name}: {ty};\n");
+    let mut out = format!("@group(0) @binding({PARAMS}) var<uniform> params: {};\n", records::PARAMS.name);
+    out += &storage(INSTANCES, "instances", "array<Instance>");
+    out += &storage(NODES, "nodes", "array<WideNode>");
+    out += &storage(PACKETS, "packets", "array<Triangle4>");
+    out += &storage(MESHES, "meshes", "array<GpuMesh>");
+    out += &storage(BSDFS, "bsdfs", "array<Bsdf>");
+    out += &storage(EMITTERS, "emitters", "array<Emitter>");
+    out += &storage(FLOATS, "floats", "array<f32>");
+    out += &storage(WORDS, "words", "array<u32>");
+    out += &storage(TEXTURES, "textures", "array<Texture>");
+    out += &format!("@group(0) @binding({SAMPLES}) var<storage, read_write> samples: array<vec4<f32>>;\n");
+    out += &format!("@group(0) @binding({ACCUM}) var<storage, read_write> accum: array<vec4<f32>>;\n");
+    out
+}
+
+/// The whole program the render kernels are compiled from.
+pub fn source() -> String {
+    let mut out = structs();
+    out += "\n";
+    out += &bindings();
+    for module in MODULES {
+        out += "\n";
+        out += module;
+    }
+    out
+}

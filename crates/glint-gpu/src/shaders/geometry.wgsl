@@ -1,0 +1,703 @@
+// Rays against the scene: the analytic shapes in object space (glint_core::shape), the
+// watertight triangle test (glint_core::mesh::triangle), and the two-level traversal
+// of the 8-wide BVHs (glint_core::accel::wide): instances at the top, each mesh's
+// triangles below.
+
+struct Ray {
+    origin: vec3<f32>,
+    dir: vec3<f32>,
+    time: f32,
+}
+
+fn ray_at(r: Ray, t: f32) -> vec3<f32> {
+    return r.origin + t * r.dir;
+}
+
+struct ShapeHit {
+    found: bool,
+    t: f32,
+    part: u32,
+    // Barycentrics of a triangle hit (unused by analytic shapes).
+    bary: vec3<f32>,
+}
+
+fn no_hit() -> ShapeHit {
+    return ShapeHit(false, 0.0, 0u, vec3<f32>(0.0));
+}
+
+fn shape_hit(t: f32, part: u32) -> ShapeHit {
+    return ShapeHit(true, t, part, vec3<f32>(0.0));
+}
+
+const KIND_SPHERE: u32 = 0u;
+const KIND_CUBE: u32 = 1u;
+const KIND_CYLINDER: u32 = 2u;
+const KIND_CONE: u32 = 3u;
+const KIND_PLANE: u32 = 4u;
+const KIND_DISK: u32 = 5u;
+const KIND_MESH: u32 = 7u;
+const KIND_RECTANGLE: u32 = 13u;
+
+// ---- analytic shapes (object space, direction not normalized) ----
+
+fn nearest_of(t0: f32, t1: f32, t_max: f32) -> f32 {
+    if t0 > 0.0 && t0 < t_max {
+        return t0;
+    }
+    if t1 > 0.0 && t1 < t_max {
+        return t1;
+    }
+    return -1.0;
+}
+
+fn intersect_sphere(r: Ray, t_max: f32) -> ShapeHit {
+    let t0 = -dot(r.origin, r.dir) / dot(r.dir, r.dir);
+    let near = ray_at(r, t0);
+    let discriminant = 1.0 - dot(near, near);
+    if discriminant < 0.0 {
+        return no_hit();
+    }
+    let half_chord = sqrt(discriminant / dot(r.dir, r.dir));
+    let t = nearest_of(t0 - half_chord, t0 + half_chord, t_max);
+    if t < 0.0 {
+        return no_hit();
+    }
+    return shape_hit(t, 0u);
+}
+
+fn intersect_cube(r: Ray, t_max: f32) -> ShapeHit {
+    var near = -INF;
+    var near_part = 0u;
+    var far = INF;
+    var far_part = 0u;
+    for (var axis = 0u; axis < 3u; axis += 1u) {
+        let o = r.origin[axis];
+        let inv = 1.0 / r.dir[axis];
+        if !finite(inv) {
+            if abs(o) > 1.0 {
+                return no_hit();
+            }
+            continue;
+        }
+        let t_minus = (-1.0 - o) * inv;
+        let t_plus = (1.0 - o) * inv;
+        var t_in = t_plus;
+        var in_part = 2u * axis + 1u;
+        var t_out = t_minus;
+        var out_part = 2u * axis;
+        if t_minus < t_plus {
+            t_in = t_minus;
+            in_part = 2u * axis;
+            t_out = t_plus;
+            out_part = 2u * axis + 1u;
+        }
+        if t_in > near {
+            near = t_in;
+            near_part = in_part;
+        }
+        if t_out < far {
+            far = t_out;
+            far_part = out_part;
+        }
+    }
+    if near > far {
+        return no_hit();
+    }
+    if near > 0.0 && near < t_max {
+        return shape_hit(near, near_part);
+    }
+    if far > 0.0 && far < t_max {
+        return shape_hit(far, far_part);
+    }
+    return no_hit();
+}
+
+fn intersect_cylinder(r: Ray, t_max: f32) -> ShapeHit {
+    var best = no_hit();
+    var limit = t_max;
+    let o = r.origin;
+    let d = r.dir;
+    let a = d.x * d.x + d.z * d.z;
+    if a > 0.0 {
+        let t0 = -(o.x * d.x + o.z * d.z) / a;
+        let cx = o.x + t0 * d.x;
+        let cz = o.z + t0 * d.z;
+        let discriminant = 1.0 - (cx * cx + cz * cz);
+        if discriminant >= 0.0 {
+            let h = sqrt(discriminant / a);
+            for (var k = 0u; k < 2u; k += 1u) {
+                let t = select(t0 + h, t0 - h, k == 0u);
+                if t > 0.0 && t < limit && abs(o.y + t * d.y) <= 1.0 {
+                    best = shape_hit(t, 0u);
+                    limit = t;
+                    break;
+                }
+            }
+        }
+    }
+    if d.y != 0.0 {
+        for (var k = 0u; k < 2u; k += 1u) {
+            let y = select(-1.0, 1.0, k == 0u);
+            let t = (y - o.y) / d.y;
+            let x = o.x + t * d.x;
+            let z = o.z + t * d.z;
+            if x * x + z * z <= 1.0 && t > 0.0 && t < limit {
+                best = shape_hit(t, k + 1u);
+                limit = t;
+            }
+        }
+    }
+    return best;
+}
+
+// glint_core::math::roots::solve_quadratic, with an f32 discriminant (fused).
+fn solve_quadratic(a: f32, b: f32, c: f32) -> vec3<f32> {
+    if a == 0.0 {
+        if b == 0.0 {
+            return vec3<f32>(0.0, 0.0, -1.0);
+        }
+        let t = -c / b;
+        return vec3<f32>(t, t, 1.0);
+    }
+    let discriminant = fma(b, b, -4.0 * a * c);
+    if discriminant < 0.0 {
+        return vec3<f32>(0.0, 0.0, -1.0);
+    }
+    let root = sqrt(discriminant);
+    let q = -0.5 * (b + select(root, -root, b < 0.0));
+    if q == 0.0 {
+        return vec3<f32>(0.0, 0.0, 1.0);
+    }
+    let t0 = q / a;
+    let t1 = c / q;
+    return vec3<f32>(min(t0, t1), max(t0, t1), 1.0);
+}
+
+fn intersect_cone(r: Ray, t_max: f32) -> ShapeHit {
+    var best = no_hit();
+    var limit = t_max;
+    let t0 = -dot(r.origin, r.dir) / dot(r.dir, r.dir);
+    let o = ray_at(r, t0);
+    let d = r.dir;
+    let oy = 1.0 - o.y;
+    let dy = -d.y;
+    let a = d.x * d.x + d.z * d.z - 0.25 * dy * dy;
+    let b = 2.0 * (o.x * d.x + o.z * d.z - 0.25 * oy * dy);
+    let c = o.x * o.x + o.z * o.z - 0.25 * oy * oy;
+    let roots = solve_quadratic(a, b, c);
+    if roots.z > 0.0 {
+        for (var k = 0u; k < 2u; k += 1u) {
+            let t = t0 + roots[k];
+            let y = ray_at(r, t).y;
+            if t > 0.0 && t < limit && y >= -1.0 && y <= 1.0 {
+                best = shape_hit(t, 0u);
+                limit = t;
+                break;
+            }
+        }
+    }
+    if r.dir.y != 0.0 {
+        let t = (-1.0 - r.origin.y) / r.dir.y;
+        let p = ray_at(r, t);
+        if t > 0.0 && t < limit && p.x * p.x + p.z * p.z <= 1.0 {
+            best = shape_hit(t, 2u);
+        }
+    }
+    return best;
+}
+
+fn intersect_flat(kind: u32, r: Ray, t_max: f32) -> ShapeHit {
+    let t = -r.origin.y / r.dir.y;
+    if !(t > 0.0 && t < t_max) {
+        return no_hit();
+    }
+    let p = ray_at(r, t);
+    if kind == KIND_DISK && !(p.x * p.x + p.z * p.z <= 1.0) {
+        return no_hit();
+    }
+    if kind == KIND_RECTANGLE && !(abs(p.x) <= 1.0 && abs(p.z) <= 1.0) {
+        return no_hit();
+    }
+    return shape_hit(t, 0u);
+}
+
+fn intersect_analytic(kind: u32, r: Ray, t_max: f32) -> ShapeHit {
+    switch kind {
+        case 0u: { return intersect_sphere(r, t_max); }
+        case 1u: { return intersect_cube(r, t_max); }
+        case 2u: { return intersect_cylinder(r, t_max); }
+        case 3u: { return intersect_cone(r, t_max); }
+        case 4u, 5u, 13u: { return intersect_flat(kind, r, t_max); }
+        default: { return no_hit(); }
+    }
+}
+
+struct SurfacePoint {
+    point: vec3<f32>,
+    normal: vec3<f32>,
+    uv: vec2<f32>,
+}
+
+fn azimuth_u(p: vec3<f32>) -> f32 {
+    let u = -atan2(p.z, p.x) / (2.0 * PI);
+    return select(u, u + 1.0, u < 0.0);
+}
+
+fn disk_uv(p: vec3<f32>, facing_up: bool) -> vec2<f32> {
+    let v = select(0.5 + 0.5 * p.z, 0.5 - 0.5 * p.z, facing_up);
+    return vec2<f32>(0.5 + 0.5 * p.x, v);
+}
+
+fn cap_surface(p: vec3<f32>, top: bool) -> SurfacePoint {
+    let y = select(-1.0, 1.0, top);
+    let point = vec3<f32>(p.x, y, p.z);
+    return SurfacePoint(point, vec3<f32>(0.0, y, 0.0), disk_uv(point, top));
+}
+
+fn normalize2_or_x(v: vec2<f32>) -> vec2<f32> {
+    let len2 = dot(v, v);
+    let r = 1.0 / sqrt(len2);
+    if finite(r) && r > 0.0 {
+        return v * r;
+    }
+    return vec2<f32>(1.0, 0.0);
+}
+
+fn analytic_surface(kind: u32, r: Ray, hit: ShapeHit) -> SurfacePoint {
+    let p = ray_at(r, hit.t);
+    switch kind {
+        case 0u: {
+            let point = normalize_or(p, vec3<f32>(0.0, 1.0, 0.0));
+            let v = 0.5 + asin(clamp(point.y, -1.0, 1.0)) / PI;
+            return SurfacePoint(point, point, vec2<f32>(azimuth_u(point), v));
+        }
+        case 1u: {
+            let axis = hit.part / 2u;
+            let sign = select(-1.0, 1.0, hit.part % 2u == 1u);
+            var point = clamp(p, vec3<f32>(-1.0), vec3<f32>(1.0));
+            point[axis] = sign;
+            var normal = vec3<f32>(0.0);
+            normal[axis] = sign;
+            var uv: vec2<f32>;
+            if axis == 0u {
+                uv = vec2<f32>(-sign * point.z, point.y);
+            } else if axis == 1u {
+                uv = vec2<f32>(point.x, -sign * point.z);
+            } else {
+                uv = vec2<f32>(sign * point.x, point.y);
+            }
+            return SurfacePoint(point, normal, vec2<f32>(0.5) + 0.5 * uv);
+        }
+        case 2u: {
+            if hit.part == 0u {
+                let radial = normalize2_or_x(vec2<f32>(p.x, p.z));
+                let point = vec3<f32>(radial.x, clamp(p.y, -1.0, 1.0), radial.y);
+                let uv = vec2<f32>(azimuth_u(point), 0.5 + 0.5 * point.y);
+                return SurfacePoint(point, vec3<f32>(point.x, 0.0, point.z), uv);
+            }
+            return cap_surface(p, hit.part == 1u);
+        }
+        case 3u: {
+            if hit.part == 2u {
+                return cap_surface(p, false);
+            }
+            let y = clamp(p.y, -1.0, 1.0);
+            let radial = normalize2_or_x(vec2<f32>(p.x, p.z)) * (0.5 * (1.0 - y));
+            let point = vec3<f32>(radial.x, y, radial.y);
+            var normal = vec3<f32>(point.x, 0.25 * (1.0 - y), point.z);
+            if dot(normal, normal) <= 0.0 {
+                normal = vec3<f32>(0.0, 1.0, 0.0);
+            }
+            return SurfacePoint(point, normal, vec2<f32>(azimuth_u(point), 0.5 + 0.5 * y));
+        }
+        case 4u: {
+            let point = vec3<f32>(p.x, 0.0, p.z);
+            return SurfacePoint(point, vec3<f32>(0.0, 1.0, 0.0), vec2<f32>(p.x, -p.z));
+        }
+        case 5u: {
+            let cap = cap_surface(p, true);
+            return SurfacePoint(cap.point * vec3<f32>(1.0, 0.0, 1.0), cap.normal, cap.uv);
+        }
+        default: {
+            let q = p * vec3<f32>(1.0, 0.0, 1.0);
+            return SurfacePoint(q, vec3<f32>(0.0, 1.0, 0.0), vec2<f32>(0.5 + 0.5 * q.x, 0.5 - 0.5 * q.z));
+        }
+    }
+}
+
+// ---- watertight triangles ----
+
+struct WatertightRay {
+    valid: bool,
+    origin: vec3<f32>,
+    kx: u32,
+    ky: u32,
+    kz: u32,
+    shear: vec3<f32>,
+}
+
+fn watertight(r: Ray) -> WatertightRay {
+    let d = r.dir;
+    let a = abs(d);
+    var kz = 2u;
+    if a.x > a.y {
+        if a.x > a.z {
+            kz = 0u;
+        }
+    } else if a.y > a.z {
+        kz = 1u;
+    }
+    var w: WatertightRay;
+    w.valid = a[kz] > 0.0 && finite(a[kz]);
+    var kx = (kz + 1u) % 3u;
+    var ky = (kx + 1u) % 3u;
+    if d[kz] < 0.0 {
+        let k = kx;
+        kx = ky;
+        ky = k;
+    }
+    w.origin = r.origin;
+    w.kx = kx;
+    w.ky = ky;
+    w.kz = kz;
+    w.shear = vec3<f32>(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]);
+    return w;
+}
+
+fn ray_space(w: WatertightRay, p: vec3<f32>) -> vec3<f32> {
+    let a = p - w.origin;
+    return vec3<f32>(a[w.kx] - w.shear.x * a[w.kz], a[w.ky] - w.shear.y * a[w.kz], a[w.kz]);
+}
+
+fn owns_edge(start: vec3<f32>, end: vec3<f32>) -> bool {
+    let dx = end.x - start.x;
+    let dy = end.y - start.y;
+    return dy > 0.0 || (dy == 0.0 && dx < 0.0);
+}
+
+// glint_core::mesh::triangle::intersect (without its f64 re-evaluation of exact zeros).
+fn intersect_triangle(w: WatertightRay, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, t_max: f32) -> ShapeHit {
+    let a = ray_space(w, p0);
+    let b = ray_space(w, p1);
+    let c = ray_space(w, p2);
+    let u = c.x * b.y - c.y * b.x;
+    let v = a.x * c.y - a.y * c.x;
+    let e = b.x * a.y - b.y * a.x;
+    if (u < 0.0 || v < 0.0 || e < 0.0) && (u > 0.0 || v > 0.0 || e > 0.0) {
+        return no_hit();
+    }
+    let det = u + v + e;
+    if det == 0.0 {
+        return no_hit();
+    }
+    if (u == 0.0 && !owns_edge(b, c)) || (v == 0.0 && !owns_edge(c, a)) || (e == 0.0 && !owns_edge(a, b)) {
+        return no_hit();
+    }
+    let sz = w.shear.z;
+    let t_scaled = u * (sz * a.z) + v * (sz * b.z) + e * (sz * c.z);
+    if det > 0.0 {
+        if t_scaled <= 0.0 || t_scaled >= t_max * det {
+            return no_hit();
+        }
+    } else if t_scaled >= 0.0 || t_scaled <= t_max * det {
+        return no_hit();
+    }
+    let inv_det = 1.0 / det;
+    let t = t_scaled * inv_det;
+    if !(t > 0.0 && t < t_max) {
+        return no_hit();
+    }
+    return ShapeHit(true, t, 0u, vec3<f32>(u, v, e) * inv_det);
+}
+
+fn packet_corner(packet: u32, corner: u32, lane: u32) -> vec3<f32> {
+    let base = corner * 12u + lane;
+    return vec3<f32>(packets[packet].p[base], packets[packet].p[base + 4u], packets[packet].p[base + 8u]);
+}
+
+// ---- wide BVH traversal ----
+
+const STACK: u32 = 96u;
+const ROBUST_FAR: f32 = 1.0000003576;
+
+struct SlabRay {
+    inv: vec3<f32>,
+    origin: vec3<f32>,
+    near_plane: vec3<u32>,
+}
+
+fn slab_ray(r: Ray) -> SlabRay {
+    var d = r.dir;
+    for (var a = 0u; a < 3u; a += 1u) {
+        if abs(d[a]) < 1e-30 {
+            d[a] = select(1e-30, -1e-30, (bitcast<u32>(d[a]) & 0x80000000u) != 0u);
+        }
+    }
+    let inv = 1.0 / d;
+    let near_plane = vec3<u32>(0u, 2u, 4u) + select(vec3<u32>(0u), vec3<u32>(1u), inv < vec3<f32>(0.0));
+    return SlabRay(inv, r.origin, near_plane);
+}
+
+struct NodeHits {
+    count: u32,
+    // Children hit, nearest first: node or leaf index, leaf count (0 = inner), entry t.
+    child: array<u32, 8>,
+    leaves: array<u32, 8>,
+    near: array<f32, 8>,
+}
+
+// The children of `node` the ray enters before `t_max`, sorted nearest first.
+fn test_node(s: SlabRay, node: u32, t_max: f32) -> NodeHits {
+    var hits: NodeHits;
+    hits.count = 0u;
+    for (var lane = 0u; lane < 8u; lane += 1u) {
+        let nx = (nodes[node].bounds[s.near_plane.x * 8u + lane] - s.origin.x) * s.inv.x;
+        let ny = (nodes[node].bounds[s.near_plane.y * 8u + lane] - s.origin.y) * s.inv.y;
+        let nz = (nodes[node].bounds[s.near_plane.z * 8u + lane] - s.origin.z) * s.inv.z;
+        let fx = (nodes[node].bounds[(s.near_plane.x ^ 1u) * 8u + lane] - s.origin.x) * s.inv.x;
+        let fy = (nodes[node].bounds[(s.near_plane.y ^ 1u) * 8u + lane] - s.origin.y) * s.inv.y;
+        let fz = (nodes[node].bounds[(s.near_plane.z ^ 1u) * 8u + lane] - s.origin.z) * s.inv.z;
+        let near = max(max(nx, ny), max(nz, 0.0));
+        let far = min(min(fx, fy), fz) * ROBUST_FAR;
+        if near <= min(far, t_max) {
+            // Insertion, nearest first.
+            var j = hits.count;
+            while j > 0u && hits.near[j - 1u] > near {
+                hits.child[j] = hits.child[j - 1u];
+                hits.leaves[j] = hits.leaves[j - 1u];
+                hits.near[j] = hits.near[j - 1u];
+                j -= 1u;
+            }
+            hits.child[j] = nodes[node].child[lane];
+            hits.leaves[j] = nodes[node].count[lane];
+            hits.near[j] = near;
+            hits.count += 1u;
+        }
+    }
+    return hits;
+}
+
+// The closest triangle of `mesh` hit in (0, t_max), or any one when `any_hit`.
+fn trace_mesh(mesh: GpuMesh, r: Ray, t_max_in: f32, any_hit: bool) -> ShapeHit {
+    var best = no_hit();
+    if mesh.node_count == 0u {
+        return best;
+    }
+    let w = watertight(r);
+    if !w.valid {
+        return best;
+    }
+    let s = slab_ray(r);
+    var t_max = t_max_in;
+    var stack_index: array<u32, STACK>;
+    var stack_count: array<u32, STACK>;
+    var stack_near: array<f32, STACK>;
+    var top = 1u;
+    stack_index[0] = 0u;
+    stack_count[0] = 0u;
+    stack_near[0] = 0.0;
+    while top > 0u {
+        top -= 1u;
+        if stack_near[top] > t_max {
+            continue;
+        }
+        let index = stack_index[top];
+        let count = stack_count[top];
+        if count > 0u {
+            for (var k = 0u; k < count; k += 1u) {
+                let packet = mesh.packet_offset + index + k;
+                for (var lane = 0u; lane < 4u; lane += 1u) {
+                    let h = intersect_triangle(
+                        w,
+                        packet_corner(packet, 0u, lane),
+                        packet_corner(packet, 1u, lane),
+                        packet_corner(packet, 2u, lane),
+                        t_max,
+                    );
+                    // Lanes past the mesh's last triangle repeat it: the same t, not closer.
+                    if h.found {
+                        best = h;
+                        best.part = packets[packet].triangle[lane];
+                        t_max = h.t;
+                        if any_hit {
+                            return best;
+                        }
+                    }
+                }
+            }
+            continue;
+        }
+        let hits = test_node(s, mesh.node_offset + index, t_max);
+        // Push farthest first, so the nearest is popped next.
+        for (var k = hits.count; k > 0u; k -= 1u) {
+            if top < STACK {
+                stack_index[top] = hits.child[k - 1u];
+                stack_count[top] = hits.leaves[k - 1u];
+                stack_near[top] = hits.near[k - 1u];
+                top += 1u;
+            }
+        }
+    }
+    return best;
+}
+
+struct SceneHit {
+    found: bool,
+    instance: u32,
+    shape: ShapeHit,
+}
+
+fn object_ray(inst: Instance, r: Ray) -> Ray {
+    let m = inst.object_from_world;
+    return Ray((m * vec4<f32>(r.origin, 1.0)).xyz, (m * vec4<f32>(r.dir, 0.0)).xyz, r.time);
+}
+
+fn intersect_instance(index: u32, r: Ray, t_max: f32, any_hit: bool) -> ShapeHit {
+    let inst = instances[index];
+    let local = object_ray(inst, r);
+    if inst.kind == KIND_MESH {
+        return trace_mesh(meshes[bitcast<u32>(inst.param)], local, t_max, any_hit);
+    }
+    return intersect_analytic(inst.kind, local, t_max);
+}
+
+// The closest hit in (0, t_max) over every instance, or any hit when `any_hit`.
+fn trace_scene(r: Ray, t_max_in: f32, any_hit: bool) -> SceneHit {
+    var result = SceneHit(false, 0u, no_hit());
+    var t_max = t_max_in;
+    if params.node_count > 0u {
+        let s = slab_ray(r);
+        var stack_index: array<u32, 64>;
+        var stack_count: array<u32, 64>;
+        var stack_near: array<f32, 64>;
+        var top = 1u;
+        stack_index[0] = 0u;
+        stack_count[0] = 0u;
+        stack_near[0] = 0.0;
+        while top > 0u {
+            top -= 1u;
+            if stack_near[top] > t_max {
+                continue;
+            }
+            let index = stack_index[top];
+            let count = stack_count[top];
+            if count > 0u {
+                for (var i = index; i < index + count; i += 1u) {
+                    let h = intersect_instance(i, r, t_max, any_hit);
+                    if h.found {
+                        result = SceneHit(true, i, h);
+                        t_max = h.t;
+                        if any_hit {
+                            return result;
+                        }
+                    }
+                }
+                continue;
+            }
+            let hits = test_node(s, index, t_max);
+            for (var k = hits.count; k > 0u; k -= 1u) {
+                if top < 64u {
+                    stack_index[top] = hits.child[k - 1u];
+                    stack_count[top] = hits.leaves[k - 1u];
+                    stack_near[top] = hits.near[k - 1u];
+                    top += 1u;
+                }
+            }
+        }
+    }
+    for (var i = params.bounded_count; i < params.instance_count; i += 1u) {
+        let h = intersect_instance(i, r, t_max, any_hit);
+        if h.found {
+            result = SceneHit(true, i, h);
+            t_max = h.t;
+            if any_hit {
+                return result;
+            }
+        }
+    }
+    return result;
+}
+
+fn occluded(r: Ray, t_max: f32) -> bool {
+    return trace_scene(r, t_max, true).found;
+}
+
+// World-space surface data at a hit (glint_core::scene::Hit).
+struct Hit {
+    t: f32,
+    point: vec3<f32>,
+    normal: vec3<f32>,
+    geometric_normal: vec3<f32>,
+    uv: vec2<f32>,
+    material: u32,
+    instance: u32,
+    part: u32,
+}
+
+fn normal_to_world(inst: Instance, n: vec3<f32>) -> vec3<f32> {
+    let m = inst.object_from_world;
+    // (M⁻¹)ᵀ n, with M⁻¹'s upper 3×3 stored column by column.
+    return vec3<f32>(dot(m[0].xyz, n), dot(m[1].xyz, n), dot(m[2].xyz, n));
+}
+
+fn mesh_vertex(mesh: GpuMesh, i: u32) -> vec3<f32> {
+    return float3(mesh.position_offset + 3u * i);
+}
+
+fn hit_from(r: Ray, found: SceneHit) -> Hit {
+    let inst = instances[found.instance];
+    let local = object_ray(inst, r);
+    let h = found.shape;
+    var hit: Hit;
+    hit.t = h.t;
+    hit.material = inst.material;
+    hit.instance = found.instance;
+    hit.part = h.part;
+    let to_world = inst.world_from_object;
+    if inst.kind != KIND_MESH {
+        let s = analytic_surface(inst.kind, local, h);
+        let n = normalize_or(normal_to_world(inst, s.normal), vec3<f32>(0.0, 1.0, 0.0));
+        hit.point = (to_world * vec4<f32>(s.point, 1.0)).xyz;
+        hit.normal = n;
+        hit.geometric_normal = n;
+        hit.uv = s.uv;
+        return hit;
+    }
+    let mesh = meshes[bitcast<u32>(inst.param)];
+    let tri = mesh.index_offset + 3u * h.part;
+    let i0 = words[tri];
+    let i1 = words[tri + 1u];
+    let i2 = words[tri + 2u];
+    let a = mesh_vertex(mesh, i0);
+    let b = mesh_vertex(mesh, i1);
+    let c = mesh_vertex(mesh, i2);
+    let bary = h.bary;
+    var geometric = cross(b - a, c - a);
+    let point = bary.x * a + bary.y * b + bary.z * c;
+    var normal = geometric;
+    if mesh.normal_offset != NO_INDEX {
+        let n0 = float3(mesh.normal_offset + 3u * i0);
+        let n1 = float3(mesh.normal_offset + 3u * i1);
+        let n2 = float3(mesh.normal_offset + 3u * i2);
+        let n = bary.x * n0 + bary.y * n1 + bary.z * n2;
+        if dot(n, n) > 0.0 {
+            normal = n;
+            if dot(n, geometric) < 0.0 {
+                geometric = -geometric;
+            }
+        }
+    }
+    var uv = vec2<f32>(bary.y, bary.z);
+    if mesh.uv_offset != NO_INDEX {
+        let u0 = vec2<f32>(floats[mesh.uv_offset + 2u * i0], floats[mesh.uv_offset + 2u * i0 + 1u]);
+        let u1 = vec2<f32>(floats[mesh.uv_offset + 2u * i1], floats[mesh.uv_offset + 2u * i1 + 1u]);
+        let u2 = vec2<f32>(floats[mesh.uv_offset + 2u * i2], floats[mesh.uv_offset + 2u * i2 + 1u]);
+        uv = bary.x * u0 + bary.y * u1 + bary.z * u2;
+    }
+    let n = normalize_or(normal_to_world(inst, normal), vec3<f32>(0.0, 1.0, 0.0));
+    hit.point = (to_world * vec4<f32>(point, 1.0)).xyz;
+    hit.normal = n;
+    hit.geometric_normal = normalize_or(normal_to_world(inst, geometric), n);
+    hit.uv = uv;
+    return hit;
+}

@@ -1,0 +1,226 @@
+// Unidirectional path tracing with next-event estimation and MIS (power heuristic):
+// glint_core::integrator::path, one sample per invocation, drawing its numbers from
+// the same path sampler in the same order as the CPU.
+
+struct Frame {
+    s: vec3<f32>,
+    t: vec3<f32>,
+    n: vec3<f32>,
+}
+
+fn frame_of(n: vec3<f32>) -> Frame {
+    let st = orthonormal_pair(n);
+    return Frame(st[0], st[1], n);
+}
+
+fn to_local(f: Frame, v: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(dot(v, f.s), dot(v, f.t), dot(v, f.n));
+}
+
+fn to_world(f: Frame, v: vec3<f32>) -> vec3<f32> {
+    return v.x * f.s + v.y * f.t + v.z * f.n;
+}
+
+fn power_heuristic(a: f32, b: f32) -> f32 {
+    let a2 = a * a;
+    let b2 = b * b;
+    return select(0.0, a2 / (a2 + b2), a2 + b2 > 0.0);
+}
+
+fn same_side_story(hit: Hit, wo_world: vec3<f32>, wi_world: vec3<f32>, wo: vec3<f32>, wi: vec3<f32>) -> bool {
+    let ng = hit.geometric_normal;
+    return (wo.z * wi.z > 0.0) == (dot(ng, wo_world) * dot(ng, wi_world) > 0.0);
+}
+
+fn side_normal(hit: Hit, w: vec3<f32>) -> vec3<f32> {
+    return select(-hit.geometric_normal, hit.geometric_normal, dot(hit.geometric_normal, w) >= 0.0);
+}
+
+struct Bounce {
+    valid: bool,
+    point: vec3<f32>,
+    pdf: f32,
+    delta: bool,
+}
+
+fn light_probability(index: u32) -> f32 {
+    return probability(params.light_cdf_offset, index);
+}
+
+fn emitted(hit: Hit, bsdf_index: u32, wo: vec3<f32>, previous: Bounce) -> vec3<f32> {
+    let r = bsdfs[bsdf_index];
+    let emission = v3(r.emission);
+    if !(max3(emission) > 0.0) {
+        return vec3<f32>(0.0);
+    }
+    let front = dot(hit.geometric_normal, wo) > 0.0;
+    if !front && (r.flags & EMITS_BOTH_SIDES) == 0u {
+        return vec3<f32>(0.0);
+    }
+    var weight = 1.0;
+    if previous.valid && !previous.delta && params.emitter_count > 0u {
+        let index = emitter_of(hit);
+        if index != NO_INDEX {
+            let light_pdf = light_probability(index) * emitter_pdf(emitters[index], previous.point, hit.point, hit.geometric_normal);
+            weight = power_heuristic(previous.pdf, light_pdf);
+        }
+    }
+    return emission * weight;
+}
+
+fn environment_light(r: Ray, previous: Bounce) -> vec3<f32> {
+    if params.environment_kind == ENV_NONE {
+        return params.background.xyz;
+    }
+    let l = env_radiance(r.dir);
+    if previous.valid && !previous.delta && params.emitter_count > 0u {
+        let light_pdf = light_probability(params.environment_emitter) * env_pdf(normalize(r.dir));
+        return l * power_heuristic(previous.pdf, light_pdf);
+    }
+    return l;
+}
+
+fn direct_light(hit: Hit, bsdf: SurfaceBsdf, f: Frame, wo: vec3<f32>, u_select: f32, u: vec2<f32>, time: f32) -> vec3<f32> {
+    if params.emitter_count == 0u {
+        return vec3<f32>(0.0);
+    }
+    let index = sample_discrete(params.light_cdf_offset, params.emitter_count, u_select).index;
+    let p_select = light_probability(index);
+    let e = emitters[index];
+    var sample: LightSample;
+    if e.kind == EM_ENVIRONMENT {
+        if params.environment_kind == ENV_NONE {
+            return vec3<f32>(0.0);
+        }
+        sample = sample_environment(u);
+    } else {
+        sample = sample_emitter(e, hit.point, u);
+    }
+    if !sample.found || !(sample.pdf > 0.0) || all(sample.radiance == vec3<f32>(0.0)) {
+        return vec3<f32>(0.0);
+    }
+    let wi = to_local(f, sample.wi);
+    if !same_side_story(hit, to_world(f, wo), sample.wi, wo, wi) {
+        return vec3<f32>(0.0);
+    }
+    let value = bsdf_eval(bsdf, wo, wi) * abs(wi.z);
+    if all(value == vec3<f32>(0.0)) {
+        return vec3<f32>(0.0);
+    }
+    let origin = offset_ray_origin(hit.point, side_normal(hit, sample.wi));
+    var t_max = INF;
+    if finite(sample.distance) && sample.distance < INF {
+        t_max = sample.distance * (1.0 - 1e-4);
+    }
+    if occluded(Ray(origin, sample.wi, time), t_max) {
+        return vec3<f32>(0.0);
+    }
+    let light_pdf = p_select * sample.pdf;
+    var weight = 1.0;
+    if !sample.delta {
+        weight = power_heuristic(light_pdf, bsdf_pdf(bsdf, wo, wi));
+    }
+    return value * sample.radiance * (weight / light_pdf);
+}
+
+fn path_radiance(camera_ray: Ray, sampler: ptr<function, PathSampler>) -> vec3<f32> {
+    if params.max_depth == 0u {
+        return vec3<f32>(0.0);
+    }
+    var radiance = vec3<f32>(0.0);
+    var throughput = vec3<f32>(1.0);
+    var eta = 1.0;
+    var r = camera_ray;
+    var previous = Bounce(false, vec3<f32>(0.0), 0.0, false);
+    var depth = 0u;
+    loop {
+        let found = trace_scene(r, INF, false);
+        if !found.found {
+            radiance += throughput * environment_light(r, previous);
+            break;
+        }
+        let hit = hit_from(r, found);
+        let wo_world = -normalize(r.dir);
+        let bsdf = surface_bsdf(hit.material, hit.uv);
+        radiance += throughput * emitted(hit, hit.material, wo_world, previous);
+        if depth + 1u >= params.max_depth {
+            break;
+        }
+        let f = frame_of(hit.normal);
+        let wo = to_local(f, wo_world);
+        let choices = next_2d(sampler);
+        let u_light = next_2d(sampler);
+        let u_dir = next_2d(sampler);
+        if has_non_delta(bsdf) {
+            radiance += throughput * direct_light(hit, bsdf, f, wo, choices.x, u_light, r.time);
+        }
+        let s = bsdf_sample(bsdf, wo, choices.y, u_dir);
+        if !s.found {
+            break;
+        }
+        let wi = to_world(f, s.wi);
+        if !same_side_story(hit, wo_world, wi, wo, s.wi) {
+            break;
+        }
+        throughput *= s.weight;
+        eta *= s.eta;
+        r = Ray(offset_ray_origin(hit.point, side_normal(hit, wi)), wi, r.time);
+        previous = Bounce(true, hit.point, s.pdf, s.delta);
+        depth += 1u;
+        let most = max3(throughput);
+        if !(most > 0.0) || !finite3(throughput) {
+            break;
+        }
+        if depth >= params.rr_depth {
+            let survive = min(most * eta * eta, 0.95);
+            if next_1d(sampler) >= survive {
+                break;
+            }
+            throughput /= survive;
+        }
+    }
+    return radiance;
+}
+
+// ---- the camera (glint_core::camera) ----
+
+fn camera_ray(x: f32, y: f32, lens: vec2<f32>) -> Ray {
+    let eye = params.eye.xyz;
+    let film_point = (params.world_from_canonical * vec4<f32>(x, y, -1.0, 1.0)).xyz;
+    let pinhole = Ray(eye, normalize(film_point - eye), 0.0);
+    if params.aperture_radius <= 0.0 {
+        return pinhole;
+    }
+    let focus = ray_at(pinhole, params.focal_distance / dot(pinhole.dir, params.forward.xyz));
+    let on_lens = params.aperture_radius * concentric_disk(lens);
+    let origin = eye + on_lens.x * params.right.xyz + on_lens.y * params.up.xyz;
+    return Ray(origin, normalize(focus - origin), 0.0);
+}
+
+// One path sample of pixel (px, py), index `index`: the film position it landed on
+// (first two numbers of its sampler) and its radiance, non-finite values as black.
+fn path_sample(px: u32, py: u32, index: u32) -> vec3<f32> {
+    var sampler = path_sampler(params.sampler == 0u, px, py, index, params.seed);
+    let offset = next_2d(&sampler);
+    var lens = vec2<f32>(0.5);
+    if params.aperture_radius > 0.0 {
+        lens = next_2d(&sampler);
+    }
+    let fx = f32(px) + offset.x;
+    let fy = f32(py) + offset.y;
+    let r = camera_ray(2.0 * fx / f32(params.width) - 1.0, 1.0 - 2.0 * fy / f32(params.height), lens);
+    let value = path_radiance(r, &sampler);
+    if !finite3(value) {
+        return vec3<f32>(0.0);
+    }
+    return value;
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn trace_path(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= params.width || id.y >= params.height {
+        return;
+    }
+    let value = path_sample(id.x, id.y, params.sample_offset + id.z);
+    samples[(id.z * params.height + id.y) * params.width + id.x] = vec4<f32>(value, 0.0);
+}

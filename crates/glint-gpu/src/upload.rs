@@ -1,0 +1,238 @@
+//! The compiled scene in GPU buffers, built from the same arrays the CPU renders:
+//! records uploaded as they are, meshes concatenated (their BVH nodes after the
+//! instance BVH's, their packets, vertices and indices one after another) with
+//! per-mesh offsets, and every plain number array in one float or one word buffer.
+
+use bytemuck::NoUninit;
+use glam::{Mat3, Mat4, Vec3};
+use glint_core::desc::{IntegratorDesc, SamplerKind};
+use glint_core::scene::RenderScene;
+use glint_core::shape::ShapeKind;
+use wgpu::util::DeviceExt;
+
+use crate::device::{Gpu, GpuError};
+use crate::records::{GpuMesh, NONE, Params};
+
+/// The scene's buffers on the device, and the parameters every pass starts from.
+pub struct GpuScene {
+    pub(crate) buffers: SceneBuffers,
+    pub(crate) params: Params,
+}
+
+pub(crate) struct SceneBuffers {
+    pub instances: wgpu::Buffer,
+    pub nodes: wgpu::Buffer,
+    pub packets: wgpu::Buffer,
+    pub meshes: wgpu::Buffer,
+    pub bsdfs: wgpu::Buffer,
+    pub emitters: wgpu::Buffer,
+    pub floats: wgpu::Buffer,
+    pub words: wgpu::Buffer,
+    pub textures: wgpu::Buffer,
+}
+
+/// What the GPU backend cannot render yet, as a sentence; `None` when it can.
+pub fn unsupported(scene: &RenderScene) -> Option<String> {
+    let s = &scene.settings;
+    if !matches!(s.integrator, IntegratorDesc::Path(_)) {
+        return Some("the Whitted integrator runs on the CPU only (choose --integrator path for the GPU)".into());
+    }
+    if s.adaptive.is_some() {
+        return Some("adaptive sampling".into());
+    }
+    if s.aovs {
+        return Some("AOV layers (albedo, normal, depth)".into());
+    }
+    if !scene.motions.is_empty() {
+        return Some("motion blur".into());
+    }
+    let kind = scene.instances.iter().map(|i| i.shape.kind).find(|k| {
+        !matches!(
+            k,
+            ShapeKind::Sphere
+                | ShapeKind::Cube
+                | ShapeKind::Cylinder
+                | ShapeKind::Cone
+                | ShapeKind::Plane
+                | ShapeKind::Disk
+                | ShapeKind::Rectangle
+                | ShapeKind::Mesh
+        )
+    });
+    kind.map(|k| format!("{k:?} shapes"))
+}
+
+/// The flat arrays before upload.
+#[derive(Default)]
+struct Arrays {
+    nodes: Vec<u8>,
+    packets: Vec<u8>,
+    meshes: Vec<GpuMesh>,
+    floats: Vec<f32>,
+    words: Vec<u32>,
+}
+
+impl Arrays {
+    fn push_floats(&mut self, values: impl IntoIterator<Item = f32>) -> u32 {
+        let at = self.floats.len() as u32;
+        self.floats.extend(values);
+        at
+    }
+
+    fn push_vec3s(&mut self, values: &[Vec3]) -> u32 {
+        self.push_floats(values.iter().flat_map(|v| v.to_array()))
+    }
+}
+
+impl GpuScene {
+    /// Uploads `scene`, or says why it cannot be rendered on this GPU.
+    pub fn new(gpu: &Gpu, scene: &RenderScene) -> Result<GpuScene, GpuError> {
+        if let Some(what) = unsupported(scene) {
+            return Err(GpuError::Unsupported(what));
+        }
+        let mut a = Arrays::default();
+        a.nodes.extend_from_slice(bytemuck::cast_slice(&scene.bvh.nodes));
+        let record = std::mem::size_of::<glint_core::accel::WideNode>();
+        for mesh in &scene.meshes {
+            let node_offset = (a.nodes.len() / record) as u32;
+            a.nodes.extend_from_slice(bytemuck::cast_slice(&mesh.bvh.nodes));
+            let packet_offset = (a.packets.len() / std::mem::size_of::<glint_core::mesh::Triangle4>()) as u32;
+            a.packets.extend_from_slice(bytemuck::cast_slice(&mesh.packets));
+            let position_offset = a.push_vec3s(&mesh.positions);
+            let normal_offset = if mesh.normals.is_empty() { NONE } else { a.push_vec3s(&mesh.normals) };
+            let uv_offset =
+                if mesh.uvs.is_empty() { NONE } else { a.push_floats(mesh.uvs.iter().flat_map(|v| v.to_array())) };
+            let index_offset = a.words.len() as u32;
+            a.words.extend(mesh.triangles.iter().flatten());
+            a.meshes.push(GpuMesh {
+                node_offset,
+                packet_offset,
+                position_offset,
+                index_offset,
+                normal_offset,
+                uv_offset,
+                node_count: mesh.bvh.nodes.len() as u32,
+                reserved: 0,
+            });
+        }
+        let texel_offset = a.push_vec3s(&scene.texels);
+        let instance_emitter_offset = a.words.len() as u32;
+        a.words.extend_from_slice(&scene.instance_emitters);
+        let params = params(scene, &mut a, texel_offset, instance_emitter_offset);
+
+        let limit = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
+        let buffer = |what: &'static str, bytes: &[u8]| -> Result<wgpu::Buffer, GpuError> {
+            if bytes.len() as u64 > limit {
+                return Err(GpuError::TooLarge { what, needed: bytes.len() as u64, limit });
+            }
+            // Bindings cannot be empty: an unused array gets one zero word.
+            let padded;
+            let contents = if bytes.is_empty() {
+                padded = vec![0u8; 256];
+                &padded[..]
+            } else {
+                bytes
+            };
+            Ok(gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(what),
+                contents,
+                usage: wgpu::BufferUsages::STORAGE,
+            }))
+        };
+        let buffers = SceneBuffers {
+            instances: buffer("instances", records_bytes(&scene.instances))?,
+            nodes: buffer("BVH nodes", &a.nodes)?,
+            packets: buffer("triangle packets", &a.packets)?,
+            meshes: buffer("mesh records", bytemuck::cast_slice(&a.meshes))?,
+            bsdfs: buffer("materials", records_bytes(&scene.bsdfs))?,
+            emitters: buffer("emitters", records_bytes(&scene.emitters))?,
+            floats: buffer("vertices, textures and tables", bytemuck::cast_slice(&a.floats))?,
+            words: buffer("triangle indices", bytemuck::cast_slice(&a.words))?,
+            textures: buffer("textures", records_bytes(&scene.textures))?,
+        };
+        Ok(GpuScene { buffers, params })
+    }
+}
+
+fn records_bytes<T: NoUninit>(records: &[T]) -> &[u8] {
+    bytemuck::cast_slice(records)
+}
+
+fn vec4(v: Vec3) -> [f32; 4] {
+    v.extend(0.0).to_array()
+}
+
+fn mat4(m: Mat3) -> Mat4 {
+    Mat4::from_mat3(m)
+}
+
+/// The per-scene part of the pass parameters; the light and environment tables go
+/// into the float array on the way.
+fn params(scene: &RenderScene, a: &mut Arrays, texel_offset: u32, instance_emitter_offset: u32) -> Params {
+    let s = &scene.settings;
+    let path = match s.integrator {
+        IntegratorDesc::Path(p) => p,
+        IntegratorDesc::Whitted => Default::default(),
+    };
+    let (emitter_count, light_cdf_offset) = match &scene.light_selection {
+        Some(selection) => (selection.len() as u32, a.push_floats(selection.cdf().iter().copied())),
+        None => (0, 0),
+    };
+    let mut p = Params {
+        width: s.width,
+        height: s.height,
+        sample_offset: 0,
+        pass_samples: 0,
+        seed: s.seed,
+        sampler: (path.sampler == SamplerKind::Independent) as u32,
+        max_depth: path.max_depth,
+        rr_depth: path.rr_depth,
+        bounded_count: scene.bounded_count as u32,
+        instance_count: scene.instances.len() as u32,
+        emitter_count,
+        light_cdf_offset,
+        environment_emitter: scene.environment_emitter,
+        environment_kind: 0,
+        env_width: 0,
+        env_height: 0,
+        env_texel_offset: 0,
+        env_cdf_offset: 0,
+        filter_kind: s.filter.kind as u32,
+        filter_radius: s.filter.radius,
+        filter_scale: s.filter.normalization(),
+        aperture_radius: scene.camera.aperture_radius,
+        focal_distance: scene.camera.focal_distance,
+        node_count: scene.bvh.nodes.len() as u32,
+        texel_offset,
+        instance_emitter_offset,
+        reserved0: 0,
+        reserved1: 0,
+        background: vec4(s.background),
+        env_scale: [0.0; 4],
+        eye: vec4(scene.camera.eye),
+        right: vec4(scene.camera.right),
+        up: vec4(scene.camera.up),
+        forward: vec4(scene.camera.forward),
+        world_from_canonical: scene.camera.world_from_canonical,
+        env_from_world: Mat4::IDENTITY,
+        world_from_env: Mat4::IDENTITY,
+    };
+    if let Some(env) = &scene.environment {
+        p.env_scale = vec4(env.scale);
+        p.env_from_world = mat4(env.env_from_world);
+        p.world_from_env = mat4(env.world_from_env);
+        p.environment_kind = 1;
+        if let Some(dist) = env.distribution() {
+            p.environment_kind = 2;
+            p.env_width = env.width as u32;
+            p.env_height = env.height as u32;
+            p.env_texel_offset = a.push_vec3s(&env.texels);
+            let (marginal, rows) = dist.parts();
+            p.env_cdf_offset = a.push_floats(marginal.cdf().iter().copied());
+            for row in rows {
+                a.push_floats(row.cdf().iter().copied());
+            }
+        }
+    }
+    p
+}
