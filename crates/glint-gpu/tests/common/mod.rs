@@ -1,0 +1,73 @@
+//! Shared by the GPU tests: the device (lavapipe in CI) and scene helpers.
+
+use std::path::Path;
+use std::sync::atomic::AtomicBool;
+
+use glint_core::film::Image;
+use glint_core::scene::{RenderScene, compile};
+use glint_gpu::Gpu;
+
+/// The GPU, or `None` (with a visible note) on a machine without any Vulkan, Metal
+/// or DX12 adapter. CI sets `GLINT_REQUIRE_GPU=1`, so there a missing adapter fails.
+pub fn gpu() -> Option<Gpu> {
+    match Gpu::new() {
+        Ok(gpu) => Some(gpu),
+        Err(e) if std::env::var_os("GLINT_REQUIRE_GPU").is_none() => {
+            eprintln!("SKIPPED: no GPU adapter ({e})");
+            None
+        }
+        Err(e) => panic!("GLINT_REQUIRE_GPU is set but: {e}"),
+    }
+}
+
+/// A native scene from source, at the given size and samples per pixel.
+pub fn scene(source: &str, width: u32, height: u32, spp: u32) -> RenderScene {
+    let mut desc = glint_scene::parse_scene(source, "test.glint", Path::new(".")).expect("scene parses");
+    desc.settings.width = width;
+    desc.settings.height = height;
+    desc.settings.spp = Some(spp);
+    compile(&desc).expect("scene compiles")
+}
+
+/// A scene file of the repository.
+pub fn scene_file(name: &str, width: u32, height: u32, spp: u32) -> RenderScene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes").join(name);
+    let mut desc = glint_scene::load_scene(&path).expect("scene loads");
+    desc.settings.width = width;
+    desc.settings.height = height;
+    desc.settings.spp = Some(spp);
+    compile(&desc).expect("scene compiles")
+}
+
+pub fn render_cpu(scene: &RenderScene) -> Image {
+    glint_core::render::render(scene, &|_, _| {}, &AtomicBool::new(false)).expect("CPU render").0
+}
+
+pub fn render_gpu(gpu: &Gpu, scene: &RenderScene) -> Image {
+    glint_gpu::render(gpu, scene, &|_, _| {}, &AtomicBool::new(false)).expect("GPU render")
+}
+
+/// Per-pixel agreement of two renders of the same samples.
+pub struct Agreement {
+    /// Largest absolute difference of any channel.
+    pub max_abs: f32,
+    /// Fraction of pixels whose channels differ by more than `1e-3·(1 + value)`.
+    pub differing: f32,
+    /// Mean of each image, all channels.
+    pub means: (f32, f32),
+}
+
+pub fn agreement(a: &Image, b: &Image) -> Agreement {
+    assert_eq!((a.width, a.height), (b.width, b.height));
+    let mut max_abs = 0.0f32;
+    let mut differing = 0;
+    for (p, q) in a.pixels.iter().zip(&b.pixels) {
+        let d = (*p - *q).abs();
+        max_abs = max_abs.max(d.max_element());
+        if d.max_element() > 1e-3 * (1.0 + p.max_element()) {
+            differing += 1;
+        }
+    }
+    let mean = |i: &Image| i.pixels.iter().map(|p| p.element_sum()).sum::<f32>() / (3 * i.pixels.len()) as f32;
+    Agreement { max_abs, differing: differing as f32 / a.pixels.len() as f32, means: (mean(a), mean(b)) }
+}
