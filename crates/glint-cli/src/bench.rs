@@ -30,7 +30,7 @@ pub struct BenchInput {
 
 /// Reads a `GLBENCH1` file (layout in `bench/embree_compare.py`).
 pub fn read_input(path: &Path) -> Result<BenchInput, String> {
-    let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let bytes = glint_scene::input::read_bytes(path, glint_scene::input::InputKind::Mesh).map_err(|e| e.to_string())?;
     let fail = |what: &str| format!("{}: {what}", path.display());
     if !bytes.starts_with(b"GLBENCH1") {
         return Err(fail("not a GLBENCH1 file (bench/embree_compare.py writes them)"));

@@ -13,6 +13,7 @@ use glint_core::film::Transfer;
 use glint_core::render::{RenderError, render_progressive};
 use glint_core::scene::compile;
 use glint_scene::image_out::{OutputFormat, write_exr_layers, write_image};
+use glint_scene::input::InputLimits;
 use glint_scene::native::MAX_SPP;
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -20,8 +21,80 @@ use indicatif::{ProgressBar, ProgressStyle};
 #[derive(Parser)]
 #[command(name = "glint", version, about, long_about = None)]
 struct Cli {
+    /// Raise a limit on the files glint reads, as KIND=SIZE (repeat it, or separate with commas).
+    ///
+    /// Every file is checked before it is read: a directory, FIFO or device is refused, and
+    /// so is a file larger than the limit for its kind. KIND is `scene` (scene files and
+    /// their includes; default 256M), `mesh` (OBJ and MTL, PLY, glTF and its buffers;
+    /// default 4G), `image` (textures and environment maps; default 1G) or `pixels` (the
+    /// pixels of a decoded image; default 64M, that is 8192x8192; also written WxH). SIZE
+    /// is a whole number with an optional K, M, G or T suffix, powers of 1024 (KiB, MiB, …
+    /// too). Example: --input-limit scene=1G,pixels=16384x8192
+    #[arg(long, global = true, value_name = "KIND=SIZE", value_delimiter = ',', value_parser = parse_input_limit)]
+    input_limit: Vec<(LimitKind, u64)>,
     #[command(subcommand)]
     command: Command,
+}
+
+/// What an `--input-limit` sets.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum LimitKind {
+    Scene,
+    Mesh,
+    Image,
+    Pixels,
+}
+
+/// `KIND=SIZE` for --input-limit.
+fn parse_input_limit(text: &str) -> Result<(LimitKind, u64), String> {
+    let (kind, value) =
+        text.split_once('=').ok_or_else(|| format!("expected KIND=SIZE such as scene=1G, found '{text}'"))?;
+    let kind = match kind.trim() {
+        "scene" => LimitKind::Scene,
+        "mesh" => LimitKind::Mesh,
+        "image" => LimitKind::Image,
+        "pixels" => LimitKind::Pixels,
+        other => return Err(format!("unknown limit '{other}': expected scene, mesh, image or pixels")),
+    };
+    let value = value.trim();
+    let size = match value.split_once(['x', 'X']) {
+        Some((w, h)) if kind == LimitKind::Pixels => {
+            let side = |s: &str| s.trim().parse::<u64>().map_err(|_| format!("'{s}' is not a whole number"));
+            side(w)?.checked_mul(side(h)?).ok_or_else(|| format!("{value} pixels is too many to count"))?
+        }
+        _ => parse_size(value)?,
+    };
+    Ok((kind, size))
+}
+
+/// A whole number with an optional binary suffix: `256M`, `4GiB`, `1024`.
+fn parse_size(text: &str) -> Result<u64, String> {
+    let digits = text.find(|c: char| !c.is_ascii_digit()).unwrap_or(text.len());
+    let (number, suffix) = text.split_at(digits);
+    let number: u64 = number.parse().map_err(|_| format!("'{text}' is not a size such as 512M or 4G"))?;
+    let shift = match suffix.trim().to_ascii_lowercase().as_str() {
+        "" | "b" => 0,
+        "k" | "kib" => 10,
+        "m" | "mib" => 20,
+        "g" | "gib" => 30,
+        "t" | "tib" => 40,
+        other => return Err(format!("unknown unit '{other}' in '{text}': use K, M, G or T (powers of 1024)")),
+    };
+    number.checked_mul(1 << shift).ok_or_else(|| format!("'{text}' is too large"))
+}
+
+/// The default limits with the command line's changes.
+fn input_limits(changes: &[(LimitKind, u64)]) -> InputLimits {
+    let mut limits = InputLimits::DEFAULT;
+    for &(kind, value) in changes {
+        *match kind {
+            LimitKind::Scene => &mut limits.scene_bytes,
+            LimitKind::Mesh => &mut limits.mesh_bytes,
+            LimitKind::Image => &mut limits.image_bytes,
+            LimitKind::Pixels => &mut limits.image_pixels,
+        } = value;
+    }
+    limits
 }
 
 #[derive(Subcommand)]
@@ -231,6 +304,7 @@ enum FormatArg {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    glint_scene::input::set_limits(input_limits(&cli.input_limit));
     let result = match cli.command {
         Command::Render(args) => run_render(&args),
         Command::Convert(args) => run_convert(&args),
@@ -617,6 +691,24 @@ mod tests {
         let mut desc = SceneDesc::default();
         desc.settings.integrator = IntegratorDesc::Path(path);
         desc
+    }
+
+    #[test]
+    fn input_limits_parse_and_the_documented_defaults_are_the_real_ones() {
+        let cli = Cli::try_parse_from(["glint", "render", "--input-limit", "scene=1G,pixels=16384x8192"]).unwrap();
+        let limits = input_limits(&cli.input_limit);
+        assert_eq!((limits.scene_bytes, limits.image_pixels), (1 << 30, 16384 * 8192));
+        assert_eq!(limits.mesh_bytes, InputLimits::DEFAULT.mesh_bytes);
+        let cli = Cli::try_parse_from(["glint", "--input-limit", "mesh=12KiB", "convert", "a", "-o", "b"]).unwrap();
+        assert_eq!(input_limits(&cli.input_limit).mesh_bytes, 12 << 10);
+        for bad in ["scene", "disk=1G", "scene=1Q", "scene=-1", "pixels=4x", "scene=99999999999T"] {
+            assert!(parse_input_limit(bad).is_err(), "{bad}");
+        }
+        // The defaults --help states.
+        let documented = ["scene=256M", "mesh=4G", "image=1G", "pixels=64M", "pixels=8192x8192"];
+        let parsed: Vec<(LimitKind, u64)> = documented.iter().map(|t| parse_input_limit(t).unwrap()).collect();
+        let (limits, pixels) = (input_limits(&parsed[..4]), parsed[4].1);
+        assert_eq!((limits, pixels), (InputLimits::DEFAULT, InputLimits::DEFAULT.image_pixels));
     }
 
     #[test]

@@ -5,7 +5,8 @@ use std::path::Path;
 
 use glint_core::desc::SceneDesc;
 
-use crate::error::{SceneError, SceneErrorKind};
+use crate::error::SceneError;
+use crate::input::InputKind;
 
 /// The scene formats glint reads.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -80,11 +81,10 @@ pub fn load_any(path: &Path) -> Result<Loaded, SceneError> {
         return Ok(Loaded { scene, format: SceneFormat::Mesh, warnings });
     }
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| SceneError::new(SceneErrorKind::Io, name.clone(), 0, 0, format!("cannot read scene file: {e}")))?;
+    let text = crate::input::read_text(path, InputKind::Scene)?;
     let format = detect(&text, path);
     let (scene, warnings) = match format {
-        SceneFormat::Native => (crate::native::load_scene(path)?, Vec::new()),
+        SceneFormat::Native => (crate::native::load_text(path, &text)?, Vec::new()),
         SceneFormat::ChallengeYaml => crate::challenge::parse_challenge(&text, &name)?,
         SceneFormat::Mesh => load_mesh_scene(path)?,
         SceneFormat::Mitsuba => {

@@ -125,9 +125,13 @@ fn encode(image: &Image, tmp: &Path, format: OutputFormat, transfer: Transfer) -
 }
 
 /// Reads a PNG/PPM/EXR back as linear RGB (the inverse of [`write_image`]), for image
-/// comparisons in tests and benchmarks.
+/// comparisons in tests and benchmarks; the file is read within the image size limit
+/// of [`crate::input`].
 pub fn read_image(path: &Path) -> Result<Image, image::ImageError> {
-    let decoded = image::open(path)?;
+    let bytes = crate::input::read_bytes(path, crate::input::InputKind::Image)
+        .map_err(|e| image::ImageError::IoError(std::io::Error::other(e)))?;
+    let format = image::ImageFormat::from_path(path)?;
+    let decoded = image::load_from_memory_with_format(&bytes, format)?;
     let is_float = matches!(decoded.color(), image::ColorType::Rgb32F | image::ColorType::Rgba32F);
     let rgb = decoded.to_rgb32f();
     let mut out = Image::new(rgb.width(), rgb.height());

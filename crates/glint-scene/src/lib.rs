@@ -2,6 +2,7 @@
 //!
 //! Every importer produces a [`glint_core::desc::SceneDesc`]; this crate owns the files
 //! (the native `.glint` format, the CS123/CS1230 course formats, Mitsuba 3 XML and texture images) so that glint-core never touches I/O.
+//! Every file is read through [`input`], which bounds its size.
 
 pub mod challenge;
 pub mod convert;
@@ -9,6 +10,7 @@ pub mod course;
 pub mod detect;
 pub mod error;
 pub mod image_out;
+pub mod input;
 pub mod mesh;
 pub mod mitsuba;
 pub mod native;

@@ -7,11 +7,14 @@
 //! stored 0–255 values directly) load their textures with [`Transfer::Identity`]
 //! through [`load_texture_encoded`] instead.
 
+use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 use glint_core::desc::{TextureDesc, Transfer};
 use image::{DynamicImage, ImageFormat, ImageReader, Limits};
+
+use crate::input::{self, InputError, InputKind};
 
 /// Largest texture side accepted, in pixels; bigger files are almost surely a mistake
 /// and would need gigabytes once decoded to floats.
@@ -20,14 +23,10 @@ pub const MAX_TEXTURE_SIDE: u32 = 16384;
 /// Why a texture file could not be used; each variant names the file.
 #[derive(Debug, thiserror::Error)]
 pub enum TextureError {
-    /// The file could not be opened or read.
-    #[error("cannot read texture file '{}': {source}", path.display())]
-    Io {
-        /// The file as it was looked for.
-        path: PathBuf,
-        /// The operating system's reason.
-        source: std::io::Error,
-    },
+    /// The file could not be read: missing, not a regular file, or larger than the
+    /// image size limit ([`crate::input`]).
+    #[error("cannot read texture file '{}': {}", .0.path.display(), .0.problem)]
+    Input(InputError),
     /// The file is not an image of a format the caller accepts.
     #[error(
         "texture file '{}' is {found}; textures must be {allowed} images",
@@ -54,6 +53,22 @@ pub enum TextureError {
         /// Its height in pixels.
         height: u32,
     },
+    /// The image has more pixels than the limit ([`input::InputLimits::image_pixels`]).
+    #[error(
+        "texture file '{}' is {width}x{height} pixels, more than the {limit} pixels allowed; \
+         raise the limit with --input-limit pixels=N",
+        path.display()
+    )]
+    TooManyPixels {
+        /// The file.
+        path: PathBuf,
+        /// Its width in pixels.
+        width: u32,
+        /// Its height in pixels.
+        height: u32,
+        /// The most pixels allowed.
+        limit: u64,
+    },
     /// The decoder rejected the data (corrupt file, unsupported variant, memory limit).
     #[error("cannot decode texture file '{}': {source}", path.display())]
     Decode {
@@ -78,7 +93,8 @@ pub fn srgb_to_linear(encoded: f32) -> f32 {
 /// # Errors
 ///
 /// A [`TextureError`] naming `path` when the file cannot be read, is not one of those
-/// formats, is larger than [`MAX_TEXTURE_SIDE`] on a side, or does not decode.
+/// formats, is larger than [`MAX_TEXTURE_SIDE`] on a side or than the size limits of
+/// [`crate::input`], or does not decode.
 pub fn load_texture(name: &str, path: &Path) -> Result<TextureDesc, TextureError> {
     load_texture_hdr(name, path, Transfer::Srgb)
 }
@@ -107,11 +123,22 @@ pub fn load_texture_hdr(name: &str, path: &Path, transfer: Transfer) -> Result<T
 
 /// The loader behind the public functions; `float_formats` admits EXR and HDR files.
 fn load_image(name: &str, path: &Path, transfer: Transfer, float_formats: bool) -> Result<TextureDesc, TextureError> {
-    let open = || {
-        ImageReader::open(path)
-            .and_then(ImageReader::with_guessed_format)
-            .map_err(|source| TextureError::Io { path: path.to_path_buf(), source })
-    };
+    let bytes = input::read_bytes(path, InputKind::Image).map_err(TextureError::Input)?;
+    decode_image(name, path, &bytes, transfer, float_formats)
+}
+
+/// Decodes the bytes of an image file (`path` names it in errors and in the texture)
+/// within the size limits: PNG or JPEG, and with `float_formats` OpenEXR or Radiance HDR.
+pub(crate) fn decode_image(
+    name: &str,
+    path: &Path,
+    bytes: &[u8],
+    transfer: Transfer,
+    float_formats: bool,
+) -> Result<TextureDesc, TextureError> {
+    let decode_error = |source| TextureError::Decode { path: path.to_path_buf(), source };
+    // Reading from memory cannot fail; the format is guessed from the first bytes.
+    let open = || ImageReader::new(Cursor::new(bytes)).with_guessed_format().map_err(|e| decode_error(e.into()));
     let reader = open()?;
     let float_image = match reader.format() {
         Some(ImageFormat::Png | ImageFormat::Jpeg) => false,
@@ -125,15 +152,20 @@ fn load_image(name: &str, path: &Path, transfer: Transfer, float_formats: bool) 
         }
     };
     // Read the header first so an absurd size is reported as such, before any decoding.
-    let decode_error = |source| TextureError::Decode { path: path.to_path_buf(), source };
     let (width, height) = reader.into_dimensions().map_err(decode_error)?;
     if width > MAX_TEXTURE_SIDE || height > MAX_TEXTURE_SIDE {
         return Err(TextureError::TooLarge { path: path.to_path_buf(), width, height });
+    }
+    let max_pixels = input::limits().image_pixels;
+    if u64::from(width) * u64::from(height) > max_pixels {
+        return Err(TextureError::TooManyPixels { path: path.to_path_buf(), width, height, limit: max_pixels });
     }
     let mut reader = open()?;
     let mut limits = Limits::default();
     limits.max_image_width = Some(MAX_TEXTURE_SIDE);
     limits.max_image_height = Some(MAX_TEXTURE_SIDE);
+    // The widest decoded form is RGBA in 32-bit floats: 16 bytes a pixel.
+    limits.max_alloc = Some(max_pixels.saturating_mul(16));
     reader.limits(limits);
     let image = reader.decode().map_err(decode_error)?;
     Ok(TextureDesc::Image {

@@ -48,10 +48,8 @@ pub const MIRROR: Vec3 = Vec3::new(1.0, 1.0, -1.0);
 /// A [`SceneError`] naming the file, line and column of the first problem: malformed
 /// YAML, an unknown item or transform, a value of the wrong type or out of range.
 pub fn load_challenge(path: &Path) -> std::result::Result<(SceneDesc, Vec<String>), SceneError> {
-    let name = path.display().to_string();
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| SceneError::new(SceneErrorKind::Io, name.clone(), 0, 0, format!("cannot read scene file: {e}")))?;
-    parse_challenge(&text, &name)
+    let text = crate::input::read_text(path, crate::input::InputKind::Scene)?;
+    parse_challenge(&text, &path.display().to_string())
 }
 
 /// Reads Ray Tracer Challenge YAML text; `file_name` is used in errors, warnings and node

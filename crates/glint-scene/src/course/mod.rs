@@ -22,7 +22,7 @@ use std::collections::HashSet;
 use std::path::Path;
 
 use crate::detect::{Loaded, SceneFormat};
-use crate::error::{SceneError, SceneErrorKind};
+use crate::error::SceneError;
 
 pub use build::{COURSE_HEIGHT, COURSE_MAX_DEPTH, COURSE_WIDTH, DEPTH_OF_FIELD_SAMPLES_PER_AXIS, MAX_NODES};
 
@@ -93,11 +93,8 @@ pub(crate) fn load_text(path: &Path, text: &str, format: SceneFormat, options: C
 }
 
 fn read(path: &Path) -> Result<(String, Source)> {
-    let src = source_of(path);
-    let text = std::fs::read_to_string(path).map_err(|e| {
-        SceneError::new(SceneErrorKind::Io, src.name.clone(), 0, 0, format!("cannot read scene file: {e}"))
-    })?;
-    Ok((text, src))
+    let text = crate::input::read_text(path, crate::input::InputKind::Scene)?;
+    Ok((text, source_of(path)))
 }
 
 fn source_of(path: &Path) -> Source {

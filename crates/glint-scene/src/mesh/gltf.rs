@@ -1,44 +1,41 @@
 //! glTF 2.0 (`.gltf` with its buffers, or a binary `.glb`) through the `gltf` crate:
 //! the default scene's node tree with its transforms, triangle primitives, and each
 //! material's base-colour factor and texture. A mesh used by several nodes is stored once.
+//!
+//! The crate's `import` would read the buffers and images a model names itself, with no
+//! bound on their size; so the JSON is parsed from bytes read within the limits of
+//! [`crate::input`], buffers are read here the same way, and only the images materials
+//! use are decoded, by [`crate::texture_io`] under its pixel limit.
 
+use std::borrow::Cow;
 use std::collections::HashMap;
-use std::io::Read;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec2, Vec3};
-use glint_core::desc::{MaterialDesc, MeshDesc, TextureDesc};
+use glint_core::desc::{MaterialDesc, MeshDesc, Transfer};
 
-use super::{MAX_MESH_FILE_BYTES, MeshImport, Placement, degenerate_warning, io_error, mesh_error};
+use super::{MeshImport, Placement, degenerate_warning, mesh_error, read_limited};
 use crate::error::SceneError;
-use crate::texture_io::srgb_to_linear;
-
-/// Checks the size and the first bytes before handing the file to the parser, so a
-/// large file that is not glTF is refused without being read.
-fn check_header(path: &Path) -> Result<(), SceneError> {
-    let meta = std::fs::metadata(path).map_err(|e| io_error(path, format!("cannot read glTF file: {e}")))?;
-    if meta.len() > MAX_MESH_FILE_BYTES {
-        return Err(io_error(path, format!("the file is {} bytes, more than a mesh file may have", meta.len())));
-    }
-    let mut head = [0u8; 64];
-    let mut file = std::fs::File::open(path).map_err(|e| io_error(path, format!("cannot read glTF file: {e}")))?;
-    let n = file.read(&mut head).map_err(|e| io_error(path, format!("cannot read glTF file: {e}")))?;
-    let head = &head[..n];
-    let is_glb = head.starts_with(b"glTF");
-    let is_json = head.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{') || head.starts_with(b"\xef\xbb\xbf{");
-    if !(is_glb || is_json) {
-        return Err(mesh_error(path, 0, "not a glTF file: neither binary glTF ('glTF' magic) nor JSON"));
-    }
-    Ok(())
-}
+use crate::input::{self, InputKind};
 
 pub fn load(path: &Path) -> Result<MeshImport, SceneError> {
-    check_header(path)?;
-    let (doc, buffers, images) = gltf::import(path).map_err(|e| mesh_error(path, 0, format!("invalid glTF: {e}")))?;
+    // A large file that is neither binary glTF nor JSON is refused from its first bytes.
+    let bytes = read_limited(path, |head| {
+        let is_glb = head.starts_with(b"glTF");
+        let is_json =
+            head.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{') || head.starts_with(b"\xef\xbb\xbf{");
+        if !(is_glb || is_json) {
+            return Err(mesh_error(path, 0, "not a glTF file: neither binary glTF ('glTF' magic) nor JSON"));
+        }
+        Ok(())
+    })?;
+    let gltf::Gltf { document: doc, blob } =
+        gltf::Gltf::from_slice(&bytes).map_err(|e| mesh_error(path, 0, format!("invalid glTF: {e}")))?;
+    drop(bytes);
+    let buffers = buffers(path, &doc, blob)?;
     let mut state = State {
         path,
         buffers: &buffers,
-        images: &images,
         import: MeshImport::default(),
         meshes: HashMap::new(),
         materials: HashMap::new(),
@@ -56,15 +53,67 @@ pub fn load(path: &Path) -> Result<MeshImport, SceneError> {
     Ok(state.import)
 }
 
+/// Where a URI in a glTF file points: bytes it carries (`data:`) or a file.
+enum Resource {
+    Bytes(Vec<u8>),
+    File(PathBuf),
+}
+
+/// Resolves `uri` as glTF does: `data:…;base64,…`, `file:` (an absolute path) or a
+/// percent-encoded path relative to the model's folder `dir`.
+fn resolve(dir: &Path, uri: &str) -> Result<Resource, String> {
+    if uri.starts_with("data:") {
+        // The gltf crate decodes data URIs on its own when it has no folder to look in.
+        let data = gltf::buffer::Data::from_source(gltf::buffer::Source::Uri(uri), None)
+            .map_err(|e| format!("invalid data URI: {e}"))?;
+        return Ok(Resource::Bytes(data.0));
+    }
+    if let Some(file) = uri.strip_prefix("file://").or_else(|| uri.strip_prefix("file:")) {
+        return Ok(Resource::File(PathBuf::from(file)));
+    }
+    if uri.contains(':') {
+        return Err(format!("unsupported URI '{uri}': only data:, file: and relative paths are read"));
+    }
+    let relative = urlencoding::decode(uri).map_err(|e| format!("URI '{uri}' is not UTF-8 once decoded: {e}"))?;
+    Ok(Resource::File(dir.join(&*relative)))
+}
+
+/// The data of every buffer: the binary chunk of a GLB, a `data:` URI, or a file read
+/// within the mesh size limit.
+fn buffers(
+    path: &Path,
+    doc: &gltf::Document,
+    mut blob: Option<Vec<u8>>,
+) -> Result<Vec<gltf::buffer::Data>, SceneError> {
+    let dir = path.parent().unwrap_or(Path::new(""));
+    let mut out = Vec::new();
+    for buffer in doc.buffers() {
+        let fail = |message: String| mesh_error(path, 0, format!("buffer {}: {message}", buffer.index()));
+        let mut data = match buffer.source() {
+            gltf::buffer::Source::Bin => blob.take().ok_or_else(|| fail("the GLB has no binary chunk".into()))?,
+            gltf::buffer::Source::Uri(uri) => match resolve(dir, uri).map_err(fail)? {
+                Resource::Bytes(bytes) => bytes,
+                Resource::File(file) => input::read_bytes(&file, InputKind::Mesh).map_err(|e| fail(e.to_string()))?,
+            },
+        };
+        if data.len() < buffer.length() {
+            return Err(fail(format!("it holds {} bytes, fewer than the {} it declares", data.len(), buffer.length())));
+        }
+        // As the gltf crate does: accessors may read whole 4-byte words at the end.
+        data.resize(data.len().next_multiple_of(4), 0);
+        out.push(gltf::buffer::Data(data));
+    }
+    Ok(out)
+}
+
 struct State<'a> {
     path: &'a Path,
     buffers: &'a [gltf::buffer::Data],
-    images: &'a [gltf::image::Data],
     import: MeshImport,
     /// (mesh, primitive) → index into `import.meshes`.
     meshes: HashMap<(usize, usize), usize>,
     materials: HashMap<usize, usize>,
-    textures: HashMap<usize, Option<usize>>,
+    textures: HashMap<usize, usize>,
 }
 
 impl State<'_> {
@@ -99,7 +148,10 @@ impl State<'_> {
                         self.import.meshes.len() - 1
                     }
                 };
-                let material = primitive.material().index().map(|m| self.material(&primitive.material(), m));
+                let material = match primitive.material().index() {
+                    Some(m) => Some(self.material(&primitive.material(), m)?),
+                    None => None,
+                };
                 self.import.placements.push(Placement { mesh: index, material, world_from_object: world });
             }
         }
@@ -146,59 +198,52 @@ impl State<'_> {
         })
     }
 
-    fn material(&mut self, material: &gltf::Material, index: usize) -> usize {
+    fn material(&mut self, material: &gltf::Material, index: usize) -> Result<usize, SceneError> {
         if let Some(&i) = self.materials.get(&index) {
-            return i;
+            return Ok(i);
         }
         let pbr = material.pbr_metallic_roughness();
         let [r, g, b, _] = pbr.base_color_factor();
         let name = material.name().map_or_else(|| format!("material{index}"), str::to_owned);
         let mut desc = MaterialDesc { name, diffuse: Vec3::new(r, g, b), specular: Vec3::ZERO, ..Default::default() };
         if let Some(info) = pbr.base_color_texture() {
-            let image = info.texture().source().index();
-            if let Some(t) = self.texture(image) {
-                desc.texture = Some(t);
-                desc.blend = 1.0;
-            }
+            desc.texture = Some(self.texture(&info.texture().source())?);
+            desc.blend = 1.0;
         }
         self.import.materials.push(desc);
         self.materials.insert(index, self.import.materials.len() - 1);
-        self.import.materials.len() - 1
+        Ok(self.import.materials.len() - 1)
     }
 
-    fn texture(&mut self, image: usize) -> Option<usize> {
-        if let Some(&t) = self.textures.get(&image) {
-            return t;
+    /// The texture of `image`, decoded the first time a material uses it: PNG or JPEG
+    /// from a buffer view, a `data:` URI or a file (read within the image size limit).
+    fn texture(&mut self, image: &gltf::Image) -> Result<usize, SceneError> {
+        let index = image.index();
+        if let Some(&t) = self.textures.get(&index) {
+            return Ok(t);
         }
-        let data = self.images.get(image)?;
-        let channels = match data.format {
-            gltf::image::Format::R8G8B8 => Some(3),
-            gltf::image::Format::R8G8B8A8 => Some(4),
-            other => {
-                self.import
-                    .warnings
-                    .push(format!("{}: image {image} is {other:?}; only 8-bit RGB(A) is used", self.path.display()));
-                None
+        let fail = |message: String| mesh_error(self.path, 0, format!("image {index}: {message}"));
+        let (bytes, file): (Cow<[u8]>, Cow<Path>) = match image.source() {
+            gltf::image::Source::View { view, .. } => {
+                let buffer = self.buffers.get(view.buffer().index()).map_or(&[][..], |b| &b.0[..]);
+                let range = view.offset()..view.offset().saturating_add(view.length());
+                let bytes = buffer.get(range).ok_or_else(|| fail("its buffer view lies outside its buffer".into()))?;
+                (Cow::Borrowed(bytes), Cow::Borrowed(self.path))
+            }
+            gltf::image::Source::Uri { uri, .. } => {
+                match resolve(self.path.parent().unwrap_or(Path::new("")), uri).map_err(fail)? {
+                    Resource::Bytes(bytes) => (Cow::Owned(bytes), Cow::Borrowed(self.path)),
+                    Resource::File(file) => {
+                        let bytes = input::read_bytes(&file, InputKind::Image).map_err(|e| fail(e.to_string()))?;
+                        (Cow::Owned(bytes), Cow::Owned(file))
+                    }
+                }
             }
         };
-        let result = channels.map(|c| {
-            let texels = data
-                .pixels
-                .chunks_exact(c)
-                .map(|p| Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32).map(|x| srgb_to_linear(x / 255.0)))
-                .collect();
-            let name = format!("image{image}");
-            let path = self.path.display().to_string();
-            self.import.textures.push(TextureDesc::Image {
-                name,
-                path,
-                width: data.width,
-                height: data.height,
-                texels,
-            });
-            self.import.textures.len() - 1
-        });
-        self.textures.insert(image, result);
-        result
+        let texture = crate::texture_io::decode_image(&format!("image{index}"), &file, &bytes, Transfer::Srgb, false)
+            .map_err(|e| fail(e.to_string()))?;
+        self.import.textures.push(texture);
+        self.textures.insert(index, self.import.textures.len() - 1);
+        Ok(self.import.textures.len() - 1)
     }
 }

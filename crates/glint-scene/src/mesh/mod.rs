@@ -19,10 +19,7 @@ use glint_core::desc::{
 };
 
 use crate::error::{SceneError, SceneErrorKind};
-
-/// Largest mesh file read: far beyond any scene glint targets, small enough that a
-/// mistaken path (a disk image, a video) is refused before it is read.
-pub const MAX_MESH_FILE_BYTES: u64 = 4 << 30;
+use crate::input::{self, InputKind};
 
 /// The mesh formats, by extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -68,32 +65,21 @@ pub(crate) fn mesh_error(file: &Path, line: u32, message: impl Into<String>) -> 
     SceneError::new(SceneErrorKind::Invalid, file.display().to_string(), line, if line == 0 { 0 } else { 1 }, message)
 }
 
-pub(crate) fn io_error(file: &Path, message: impl Into<String>) -> SceneError {
-    SceneError::new(SceneErrorKind::Io, file.display().to_string(), 0, 0, message)
-}
-
-/// Reads the whole file, after checking its size and letting `check_head` look at its
-/// first 4 KiB: a large file that is not a mesh is refused without being read.
+/// Reads the whole file within the mesh size limit ([`crate::input`]), after letting
+/// `check_head` look at its first 4 KiB: a large file that is not a mesh is refused
+/// without being read.
 pub(crate) fn read_limited(
     path: &Path,
     check_head: impl Fn(&[u8]) -> Result<(), SceneError>,
 ) -> Result<Vec<u8>, SceneError> {
     use std::io::Read;
-    let cannot = |e: std::io::Error| io_error(path, format!("cannot read mesh file: {e}"));
-    let meta = std::fs::metadata(path).map_err(cannot)?;
-    if meta.len() > MAX_MESH_FILE_BYTES {
-        return Err(io_error(
-            path,
-            format!("the file is {} bytes, more than the {MAX_MESH_FILE_BYTES} bytes a mesh file may have", meta.len()),
-        ));
-    }
-    let mut file = std::fs::File::open(path).map_err(cannot)?;
+    let mut file = input::open(path, InputKind::Mesh)?;
     let mut head = Vec::with_capacity(4096);
-    (&mut file).take(4096).read_to_end(&mut head).map_err(cannot)?;
+    (&mut file).take(4096).read_to_end(&mut head).map_err(|e| {
+        SceneError::new(SceneErrorKind::Io, path.display().to_string(), 0, 0, format!("cannot read mesh file: {e}"))
+    })?;
     check_head(&head)?;
-    let mut bytes = head;
-    file.read_to_end(&mut bytes).map_err(cannot)?;
-    Ok(bytes)
+    Ok(file.finish(head)?)
 }
 
 /// Reads a mesh file of any supported format (chosen by extension).

@@ -149,10 +149,10 @@ struct Library {
 impl Library {
     /// Reads one MTL file; a missing or broken library is a warning (the model still shows).
     fn read(&mut self, path: &Path, warnings: &mut Vec<String>) {
-        let text = match std::fs::read_to_string(path) {
+        let text = match crate::input::read_text(path, crate::input::InputKind::Mesh) {
             Ok(t) => t,
             Err(e) => {
-                warnings.push(format!("{}: cannot read material library: {e}", path.display()));
+                warnings.push(format!("{}: cannot read material library: {}", path.display(), e.problem));
                 return;
             }
         };

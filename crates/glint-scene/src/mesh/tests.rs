@@ -138,6 +138,67 @@ fn glb_meshes_are_stored_once_and_placed_by_nodes() {
     assert!(load_mesh(&write(&dir, "junk.glb", b"PK\x03\x04 not gltf")).unwrap_err().message.contains("not a glTF"));
 }
 
+/// Standard base64 (RFC 4648), for data URIs.
+fn base64(bytes: &[u8]) -> String {
+    const DIGITS: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::new();
+    for chunk in bytes.chunks(3) {
+        let n = chunk.iter().enumerate().fold(0u32, |n, (i, &b)| n | u32::from(b) << (16 - 8 * i));
+        for i in 0..4 {
+            out.push(if i <= chunk.len() { DIGITS[(n >> (18 - 6 * i) & 63) as usize] as char } else { '=' });
+        }
+    }
+    out
+}
+
+/// A `.gltf` whose triangle lies in `buffer_uri` and whose material's texture is `image_uri`.
+fn gltf_json(buffer_uri: &str, image_uri: &str) -> String {
+    format!(
+        r#"{{"asset":{{"version":"2.0"}},"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"indices":1,"material":0}}]}}],
+"materials":[{{"pbrMetallicRoughness":{{"baseColorTexture":{{"index":0}}}}}}],
+"textures":[{{"source":0}}],"images":[{{"uri":"{image_uri}"}}],
+"buffers":[{{"byteLength":44,"uri":"{buffer_uri}"}}],
+"bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":36}},{{"buffer":0,"byteOffset":36,"byteLength":6}}],
+"accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}},
+{{"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}}]}}"#
+    )
+}
+
+#[test]
+fn gltf_buffers_and_images_are_read_from_files_and_data_uris_within_the_limits() {
+    let dir = folder("gltf-uris");
+    // The GLB's binary chunk is the triangle's buffer.
+    let glb = tiny_glb();
+    let bin = glb[glb.len() - 44..].to_vec();
+    write(&dir, "tri data.bin", &bin);
+    let png = dir.join("two.png");
+    image::RgbImage::from_raw(2, 1, vec![255, 0, 0, 0, 0, 255]).unwrap().save(&png).unwrap();
+    let png_uri = format!("data:image/png;base64,{}", base64(&std::fs::read(&png).unwrap()));
+    let bin_uri = format!("data:application/octet-stream;base64,{}", base64(&bin));
+    for (buffer, image) in [("tri%20data.bin", "two.png"), (bin_uri.as_str(), png_uri.as_str())] {
+        let path = write(&dir, "model.gltf", gltf_json(buffer, image).as_bytes());
+        let import = load_mesh(&path).unwrap_or_else(|e| panic!("{buffer}: {e}"));
+        assert_eq!(import.meshes[0].positions[1], Vec3::X);
+        let TextureDesc::Image { width: 2, height: 1, texels, .. } = &import.textures[0] else {
+            panic!("{:?}", import.textures)
+        };
+        assert_eq!((texels[0], texels[1]), (Vec3::X, Vec3::Z));
+        assert_eq!(import.materials[0].texture, Some(0));
+    }
+    // Files a model names are refused as any file is: here a folder and a missing file.
+    std::fs::create_dir_all(dir.join("folder.bin")).unwrap();
+    let path = write(&dir, "model.gltf", gltf_json("folder.bin", "two.png").as_bytes());
+    let e = load_mesh(&path).unwrap_err();
+    assert!(e.message.contains("buffer 0: cannot read mesh file") && e.message.contains("is a directory"), "{e}");
+    let path = write(&dir, "model.gltf", gltf_json("tri%20data.bin", "missing.png").as_bytes());
+    let e = load_mesh(&path).unwrap_err();
+    assert!(e.message.contains("image 0: cannot read image file") && e.message.contains("missing.png"), "{e}");
+    let path = write(&dir, "model.gltf", gltf_json("https://example.com/tri.bin", "two.png").as_bytes());
+    assert!(load_mesh(&path).unwrap_err().message.contains("unsupported URI"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn a_model_alone_becomes_a_framed_scene() {
     let dir = folder("model");

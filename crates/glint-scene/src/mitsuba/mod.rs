@@ -30,7 +30,7 @@ use std::rc::Rc;
 use glint_core::desc::{MaterialDesc, SceneDesc};
 
 use crate::detect::{Loaded, SceneFormat};
-use crate::error::{SceneError, SceneErrorKind};
+use crate::error::SceneError;
 use crate::source::Source;
 use tree::Elem;
 
@@ -41,9 +41,7 @@ use tree::Elem;
 /// A [`SceneError`] at the file, line and column of the first problem: malformed XML,
 /// an unsupported plugin or parameter, a file that cannot be read.
 pub fn load_mitsuba(path: &Path) -> Result<Loaded, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
-        SceneError::new(SceneErrorKind::Io, path.display().to_string(), 0, 0, format!("cannot read scene file: {e}"))
-    })?;
+    let text = crate::input::read_text(path, crate::input::InputKind::Scene)?;
     load_text(path, &text)
 }
 

@@ -144,6 +144,13 @@ fn bake(w: u32, h: u32, src: &[glam::Vec3], scale: Vec2, offset: Vec2) -> Result
             "repeating the {w}x{h} image {sx} × {sy} times exceeds {MAX_TEXTURE_SIDE} texels per side"
         ));
     }
+    let max_pixels = crate::input::limits().image_pixels;
+    if (big_w * big_h) as u64 > max_pixels {
+        return Err(format!(
+            "repeating the {w}x{h} image {sx} × {sy} times makes more than the {max_pixels} texels allowed; \
+             raise the limit with --input-limit pixels=N"
+        ));
+    }
     let (wi, hi) = (i64::from(w), i64::from(h));
     let mut out = Vec::with_capacity((big_w * big_h) as usize);
     for j in 0..big_h {

@@ -192,11 +192,11 @@ fn include(elem: &Elem, defaults: &HashMap<String, String>, depth: usize) -> Res
         );
     }
     let path = elem.resolve(file);
-    let text = std::fs::read_to_string(&path).map_err(|e| {
+    let text = crate::input::read_text(&path, crate::input::InputKind::Scene).map_err(|e| {
         elem.file.error(
             SceneErrorKind::Io,
             elem.attr_pos("filename"),
-            format!("cannot read included file '{}': {e}", path.display()),
+            format!("cannot read included file '{}': {}", path.display(), e.problem),
         )
     })?;
     let src = Rc::new(source_for(&path));

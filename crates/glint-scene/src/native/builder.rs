@@ -325,8 +325,9 @@ impl Builder {
         if self.include_stack.len() >= MAX_INCLUDE_DEPTH {
             return Err(src.invalid(pos, format!("includes are nested more than {MAX_INCLUDE_DEPTH} deep")));
         }
-        let text = std::fs::read_to_string(&path)
-            .map_err(|e| src.error(SceneErrorKind::Io, pos, format!("cannot read included file '{name}': {e}")))?;
+        let text = crate::input::read_text(&path, crate::input::InputKind::Scene).map_err(|e| {
+            src.error(SceneErrorKind::Io, pos, format!("cannot read included file '{name}': {}", e.problem))
+        })?;
         let included = Source { name, dir: parent_dir(&path) };
         self.file(&included, &text, canonical)
     }

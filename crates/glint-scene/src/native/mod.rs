@@ -22,7 +22,8 @@ use std::path::Path;
 
 use glint_core::desc::SceneDesc;
 
-use crate::error::{SceneError, SceneErrorKind};
+use crate::error::SceneError;
+use crate::input::InputKind;
 use builder::{Builder, Source, parent_dir};
 
 pub use builder::MAX_NODES;
@@ -44,12 +45,15 @@ pub const DEFAULT_SCENE_NAME: &str = "<default scene>";
 /// meaning error, or an included or texture file that cannot be read. A missing scene
 /// file itself is reported with line 0.
 pub fn load_scene(path: &Path) -> Result<SceneDesc, SceneError> {
-    let name = path.display().to_string();
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| SceneError::new(SceneErrorKind::Io, name.clone(), 0, 0, format!("cannot read scene file: {e}")))?;
-    let src = Source { name, dir: parent_dir(path) };
+    load_text(path, &crate::input::read_text(path, InputKind::Scene)?)
+}
+
+/// Reads native scene text that came from `path` (for [`crate::load_any`], which has
+/// read the file already to tell its format).
+pub(crate) fn load_text(path: &Path, text: &str) -> Result<SceneDesc, SceneError> {
+    let src = Source { name: path.display().to_string(), dir: parent_dir(path) };
     let mut builder = Builder::default();
-    builder.file(&src, &text, std::fs::canonicalize(path).ok())?;
+    builder.file(&src, text, std::fs::canonicalize(path).ok())?;
     Ok(builder.finish())
 }
 
