@@ -16,4 +16,4 @@ pub mod shader;
 pub mod upload;
 
 pub use device::{Gpu, GpuError};
-pub use render::{GpuRenderError, Progressive, render};
+pub use render::{GpuRenderError, Progressive, RayHit, RayQuery, render, trace_rays};

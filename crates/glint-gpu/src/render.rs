@@ -67,52 +67,9 @@ impl<'g> Progressive<'g> {
             mapped_at_creation: false,
         });
         let (trace, splat, bind_group) = gpu.checked("compiling the render kernels", || {
-            let module = gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some("glint render kernels"),
-                source: wgpu::ShaderSource::Wgsl(shader::source().into()),
-            });
-            let layout = bind_group_layout(&gpu.device);
-            let pipeline_layout = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("scene"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
-            let pipeline = |entry: &str| {
-                gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(entry),
-                    layout: Some(&pipeline_layout),
-                    module: &module,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    cache: None,
-                })
-            };
-            let (trace, splat) = (pipeline("trace_path"), pipeline("splat"));
-            let b = &gpu_scene.buffers;
-            let entries = [
-                (binding::PARAMS, &params),
-                (binding::INSTANCES, &b.instances),
-                (binding::NODES, &b.nodes),
-                (binding::PACKETS, &b.packets),
-                (binding::MESHES, &b.meshes),
-                (binding::BSDFS, &b.bsdfs),
-                (binding::EMITTERS, &b.emitters),
-                (binding::FLOATS, &b.floats),
-                (binding::WORDS, &b.words),
-                (binding::TEXTURES, &b.textures),
-                (binding::SAMPLES, &samples),
-                (binding::ACCUM, &accum),
-            ];
-            let entries: Vec<_> = entries
-                .iter()
-                .map(|&(binding, buffer)| wgpu::BindGroupEntry { binding, resource: buffer.as_entire_binding() })
-                .collect();
-            let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("scene"),
-                layout: &layout,
-                entries: &entries,
-            });
-            (trace, splat, bind_group)
+            let kernels = Kernels::new(gpu);
+            let bind_group = kernels.bind(gpu, &gpu_scene, &params, &samples, &accum);
+            (kernels.pipeline(gpu, "trace_path"), kernels.pipeline(gpu, "splat"), bind_group)
         })?;
         Ok(Progressive { gpu, scene: gpu_scene, trace, splat, bind_group, params, accum, readback, capacity, done: 0 })
     }
@@ -171,30 +128,187 @@ impl<'g> Progressive<'g> {
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         encoder.copy_buffer_to_buffer(&self.accum, 0, &self.readback, 0, self.readback.size());
         gpu.queue.submit([encoder.finish()]);
-        let slice = self.readback.slice(..);
-        let (sender, receiver) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |result| {
-            let _ = sender.send(result);
-        });
-        gpu.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| GpuError::Device(format!("reading the film back: {e}")))?;
-        receiver
-            .recv()
-            .map_err(|e| GpuError::Device(e.to_string()))?
-            .map_err(|e| GpuError::Device(format!("reading the film back: {e}")))?;
-        let (width, height) = (self.scene.params.width, self.scene.params.height);
-        let pixels = {
-            let view = slice.get_mapped_range().map_err(|e| GpuError::Device(format!("{e:?}")))?;
-            let accum: &[[f32; 4]] = bytemuck::cast_slice(&view);
-            accum
-                .iter()
-                .map(|&[r, g, b, w]| if w.abs() > 1e-12 { Vec3::new(r, g, b) / w } else { Vec3::ZERO })
-                .collect()
-        };
-        self.readback.unmap();
-        Ok(Image { width, height, pixels })
+        let accum: Vec<[f32; 4]> = map_read(gpu, &self.readback)?;
+        let pixels = accum
+            .iter()
+            .map(|&[r, g, b, w]| if w.abs() > 1e-12 { Vec3::new(r, g, b) / w } else { Vec3::ZERO })
+            .collect();
+        Ok(Image { width: self.scene.params.width, height: self.scene.params.height, pixels })
     }
+}
+
+/// The compiled program and the one bind-group layout all its kernels share.
+struct Kernels {
+    module: wgpu::ShaderModule,
+    layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+}
+
+impl Kernels {
+    fn new(gpu: &Gpu) -> Kernels {
+        let module = gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("glint kernels"),
+            source: wgpu::ShaderSource::Wgsl(shader::source().into()),
+        });
+        let layout = bind_group_layout(&gpu.device);
+        let pipeline_layout = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("scene"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        Kernels { module, layout, pipeline_layout }
+    }
+
+    fn pipeline(&self, gpu: &Gpu, entry: &str) -> wgpu::ComputePipeline {
+        gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(entry),
+            layout: Some(&self.pipeline_layout),
+            module: &self.module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+    }
+
+    fn bind(
+        &self,
+        gpu: &Gpu,
+        scene: &GpuScene,
+        params: &wgpu::Buffer,
+        samples: &wgpu::Buffer,
+        accum: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        let b = &scene.buffers;
+        let entries = [
+            (binding::PARAMS, params),
+            (binding::INSTANCES, &b.instances),
+            (binding::NODES, &b.nodes),
+            (binding::PACKETS, &b.packets),
+            (binding::MESHES, &b.meshes),
+            (binding::BSDFS, &b.bsdfs),
+            (binding::EMITTERS, &b.emitters),
+            (binding::FLOATS, &b.floats),
+            (binding::WORDS, &b.words),
+            (binding::TEXTURES, &b.textures),
+            (binding::SAMPLES, samples),
+            (binding::ACCUM, accum),
+        ];
+        let entries: Vec<_> = entries
+            .iter()
+            .map(|&(binding, buffer)| wgpu::BindGroupEntry { binding, resource: buffer.as_entire_binding() })
+            .collect();
+        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("scene"),
+            layout: &self.layout,
+            entries: &entries,
+        })
+    }
+}
+
+/// One ray for [`trace_rays`]: origin, direction (any length) and the far end of the
+/// interval searched, in units of the direction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RayQuery {
+    pub origin: Vec3,
+    pub dir: Vec3,
+    pub t_max: f32,
+}
+
+/// The closest hit a [`RayQuery`] found: distance, instance and part (a mesh's
+/// triangle, a cube's face), as `RenderScene::intersect` reports them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RayHit {
+    pub t: f32,
+    pub instance: u32,
+    pub part: u32,
+}
+
+/// Traces `rays` against `scene` on the GPU, closest hit each: what the tests compare
+/// with the CPU's traversal and what benchmarks time.
+pub fn trace_rays(gpu: &Gpu, scene: &RenderScene, rays: &[RayQuery]) -> Result<Vec<Option<RayHit>>, GpuError> {
+    let gpu_scene = GpuScene::new_geometry(gpu, scene)?;
+    let count = rays.len().max(1) as u64;
+    let ray_words: Vec<[f32; 4]> =
+        rays.iter().flat_map(|r| [r.origin.extend(r.t_max).to_array(), r.dir.extend(0.0).to_array()]).collect();
+    let samples = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("rays"),
+        size: 32 * count,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    gpu.queue.write_buffer(&samples, 0, bytemuck::cast_slice(&ray_words));
+    let accum = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("hits"),
+        size: 16 * count,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let mut params = gpu_scene.params;
+    params.pass_samples = rays.len() as u32;
+    let params_buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("parameters"),
+        size: std::mem::size_of::<crate::records::Params>() as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    gpu.queue.write_buffer(&params_buffer, 0, bytemuck::bytes_of(&params));
+    gpu.checked("tracing rays", || {
+        let kernels = Kernels::new(gpu);
+        let bind_group = kernels.bind(gpu, &gpu_scene, &params_buffer, &samples, &accum);
+        let pipeline = kernels.pipeline(gpu, "trace_rays");
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        {
+            let mut cpass = encoder.begin_compute_pass(&Default::default());
+            cpass.set_bind_group(0, &bind_group, &[]);
+            cpass.set_pipeline(&pipeline);
+            let groups = (rays.len() as u32).div_ceil(64);
+            cpass.dispatch_workgroups(groups.min(65535), groups.div_ceil(65535), 1);
+        }
+        gpu.queue.submit([encoder.finish()]);
+    })?;
+    let hits: Vec<[f32; 4]> = read_buffer(gpu, &accum)?;
+    Ok(hits
+        .iter()
+        .take(rays.len())
+        .map(|&[t, instance, part, found]| {
+            (found == 1.0).then(|| RayHit { t, instance: instance.to_bits(), part: part.to_bits() })
+        })
+        .collect())
+}
+
+/// Copies a device buffer back and reads it as `T`s.
+fn read_buffer<T: bytemuck::Pod>(gpu: &Gpu, buffer: &wgpu::Buffer) -> Result<Vec<T>, GpuError> {
+    let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size: buffer.size(),
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    encoder.copy_buffer_to_buffer(buffer, 0, &readback, 0, buffer.size());
+    gpu.queue.submit([encoder.finish()]);
+    map_read(gpu, &readback)
+}
+
+fn map_read<T: bytemuck::Pod>(gpu: &Gpu, readback: &wgpu::Buffer) -> Result<Vec<T>, GpuError> {
+    let slice = readback.slice(..);
+    let (sender, receiver) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |result| {
+        let _ = sender.send(result);
+    });
+    gpu.device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| GpuError::Device(format!("waiting for the device: {e}")))?;
+    receiver
+        .recv()
+        .map_err(|e| GpuError::Device(e.to_string()))?
+        .map_err(|e| GpuError::Device(format!("reading a buffer back: {e}")))?;
+    let values = {
+        let view = slice.get_mapped_range().map_err(|e| GpuError::Device(format!("{e:?}")))?;
+        bytemuck::cast_slice(&view).to_vec()
+    };
+    readback.unmap();
+    Ok(values)
 }
 
 /// Group 0 as every kernel declares it: the parameters, the scene's arrays (read

@@ -21,13 +21,14 @@ pub mod binding {
     pub const STORAGE_COUNT: u32 = 11;
 }
 
-const MODULES: [&str; 6] = [
+const MODULES: [&str; 7] = [
     include_str!("shaders/common.wgsl"),
     include_str!("shaders/geometry.wgsl"),
     include_str!("shaders/bsdf.wgsl"),
     include_str!("shaders/emitter.wgsl"),
     include_str!("shaders/path.wgsl"),
     include_str!("shaders/film.wgsl"),
+    include_str!("shaders/rays.wgsl"),
 ];
 
 /// The record structs, in WGSL.

@@ -43,6 +43,10 @@ pub fn unsupported(scene: &RenderScene) -> Option<String> {
     if s.aovs {
         return Some("AOV layers (albedo, normal, depth)".into());
     }
+    unsupported_shape(scene)
+}
+
+fn unsupported_shape(scene: &RenderScene) -> Option<String> {
     if !scene.motions.is_empty() {
         return Some("motion blur".into());
     }
@@ -88,6 +92,15 @@ impl GpuScene {
     /// Uploads `scene`, or says why it cannot be rendered on this GPU.
     pub fn new(gpu: &Gpu, scene: &RenderScene) -> Result<GpuScene, GpuError> {
         if let Some(what) = unsupported(scene) {
+            return Err(GpuError::Unsupported(what));
+        }
+        Self::new_geometry(gpu, scene)
+    }
+
+    /// Uploads `scene` for ray queries alone: its shapes must be ones the GPU
+    /// intersects, whatever the integrator and settings.
+    pub fn new_geometry(gpu: &Gpu, scene: &RenderScene) -> Result<GpuScene, GpuError> {
+        if let Some(what) = unsupported_shape(scene) {
             return Err(GpuError::Unsupported(what));
         }
         let mut a = Arrays::default();

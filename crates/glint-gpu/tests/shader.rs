@@ -12,5 +12,5 @@ fn the_render_program_parses_and_validates() {
         panic!("{}", e.emit_to_string(&source));
     }
     let entries: Vec<_> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
-    assert_eq!(entries, ["trace_path", "splat"]);
+    assert_eq!(entries, ["trace_path", "splat", "trace_rays"]);
 }

@@ -1,4 +1,5 @@
 //! Shared by the GPU tests: the device (lavapipe in CI) and scene helpers.
+#![allow(dead_code)]
 
 use std::path::Path;
 use std::sync::atomic::AtomicBool;

@@ -1,0 +1,94 @@
+//! GPU traversal finds the hits the CPU's BVH finds: the same instance, the same part
+//! (triangle or face) and the same distance within f32 rounding, on random rays
+//! through scenes of every shape the GPU intersects, meshes and instancing included.
+
+mod common;
+
+use glam::Vec3;
+use glint_core::sampling::Rng;
+use glint_gpu::RayQuery;
+use proptest::prelude::*;
+
+const SHAPES: &str = r#"
+settings { width 8 height 8 integrator path {} }
+camera { eye [0 0 6] look_at [0 0 0] fov 40 }
+material "m" { bsdf diffuse { reflectance 0.5 } }
+mesh "tri" { file "MESH" }
+sphere { material "m" scale 0.7 translate [-2 1 0] }
+cube { material "m" rotate [1 1 0] 30 translate [0 1.2 -0.5] }
+cylinder { material "m" scale [0.5 0.8 0.5] rotate [0 0 1] 20 translate [2 1 0] }
+cone { material "m" scale 0.6 translate [-2 -1 0.5] }
+disk { material "m" rotate [1 0 0] 70 translate [0 -1.3 0] }
+rectangle { material "m" scale 0.5 rotate [0 1 1] 40 translate [2 -1 0] }
+plane { material "m" translate [0 -2.5 0] }
+mesh_instance "tri" { material "m" scale 0.8 translate [-0.8 -0.4 1.5] }
+mesh_instance "tri" { material "m" rotate [0 1 0] 60 scale [1 0.5 1] translate [1 0 2] }
+"#;
+
+fn compare(scene: &glint_core::scene::RenderScene, rays: &[RayQuery]) -> (usize, usize) {
+    let gpu = common::gpu().expect("adapter");
+    let gpu_hits = glint_gpu::trace_rays(&gpu, scene, rays).expect("GPU traces");
+    let mut hits = 0;
+    let mut mismatches = 0;
+    for (ray, gpu_hit) in rays.iter().zip(&gpu_hits) {
+        let cpu = scene.intersect(&glint_core::math::Ray::new(ray.origin, ray.dir), ray.t_max);
+        match (cpu, gpu_hit) {
+            (None, None) => {}
+            (Some(c), Some(g)) => {
+                hits += 1;
+                let same = c.instance == g.instance && c.part == g.part && (c.t - g.t).abs() <= 1e-4 * c.t.max(1.0);
+                if !same {
+                    mismatches += 1;
+                    eprintln!("ray {ray:?}: CPU ({}, {}, {}) GPU {g:?}", c.t, c.instance, c.part);
+                }
+            }
+            (c, g) => {
+                mismatches += 1;
+                eprintln!("ray {ray:?}: CPU {:?} GPU {g:?}", c.map(|c| (c.t, c.instance, c.part)));
+            }
+        }
+    }
+    (hits, mismatches)
+}
+
+fn random_rays(seed: u32, count: usize) -> Vec<RayQuery> {
+    let mut rng = Rng::new(seed);
+    let mut unit = || 2.0 * rng.next_f32() - 1.0;
+    (0..count)
+        .map(|_| {
+            let origin = Vec3::new(unit(), unit(), unit()) * 5.0;
+            let target = Vec3::new(unit() * 2.5, unit() * 2.0, unit());
+            let t_max = if unit() > 0.8 { 0.5 + 3.0 * (unit() + 1.0) } else { f32::INFINITY };
+            RayQuery { origin, dir: (target - origin) * (0.5 + unit().abs()), t_max }
+        })
+        .collect()
+}
+
+#[test]
+fn gpu_hits_are_the_cpu_hits_on_every_shape() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let mesh = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/meshes/icosphere.obj");
+    let scene = common::scene(&SHAPES.replace("MESH", mesh), 8, 8, 1);
+    let rays = random_rays(1, 4096);
+    let (hits, mismatches) = compare(&scene, &rays);
+    eprintln!("{hits} hits, {mismatches} mismatches of {}", rays.len());
+    assert!(hits > 1000, "the rays must mostly hit something: {hits}");
+    // Rays grazing an edge can differ by rounding (the GPU has no f64 fallback).
+    assert!(mismatches * 1000 <= rays.len(), "{mismatches} of {} rays differ", rays.len());
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 4, ..ProptestConfig::default() })]
+
+    #[test]
+    fn gpu_hits_are_the_cpu_hits_on_a_mesh(seed in 0u32..1000) {
+        if common::gpu().is_none() {
+            return Ok(());
+        }
+        let scene = common::scene_file("mesh-instances.glint", 8, 8, 1);
+        let (hits, mismatches) = compare(&scene, &random_rays(seed, 512));
+        prop_assert!(mismatches <= 1, "{mismatches} of 512 rays differ ({hits} hits)");
+    }
+}
