@@ -1,0 +1,76 @@
+//! `glint render --device`: the GPU renders what it can and refuses the rest in one
+//! sentence, leaving no output file; `auto` falls back to the CPU and says why.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn glint() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_glint"))
+}
+
+fn scene(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenes").join(name)
+}
+
+fn temp(name: &str) -> PathBuf {
+    std::env::temp_dir().join(format!("glint-device-{}-{name}", std::process::id()))
+}
+
+/// Whether some GPU adapter (lavapipe counts) exists here; CI installs lavapipe.
+fn has_adapter() -> bool {
+    glint_gpu::Gpu::new().is_ok() || std::env::var_os("GLINT_REQUIRE_GPU").is_some()
+}
+
+#[test]
+fn gpu_refuses_a_whitted_scene_in_one_sentence_and_writes_nothing() {
+    let out = temp("whitted.png");
+    let output = glint().args(["render", "--device", "gpu", "-q", "-o"]).arg(&out).output().unwrap();
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("cannot be rendered on the GPU yet: the Whitted integrator"), "{stderr}");
+    assert!(!out.exists());
+}
+
+#[test]
+fn auto_renders_a_whitted_scene_on_the_cpu_and_says_so() {
+    let out = temp("auto.png");
+    let output = glint()
+        .args(["render", "--device", "auto", "--width", "16", "--height", "12", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("rendering on the CPU: the GPU backend does not render"), "{stderr}");
+    assert!(out.exists());
+    let _ = std::fs::remove_file(out);
+}
+
+#[test]
+fn gpu_renders_a_path_traced_scene_like_the_cpu() {
+    if !has_adapter() {
+        eprintln!("SKIPPED: no GPU adapter");
+        return;
+    }
+    let render = |device: &str| {
+        let out = temp(&format!("{device}.ppm"));
+        let output = glint()
+            .args(["render", "--spp", "4", "--width", "20", "--height", "16", "--device", device, "-o"])
+            .arg(&out)
+            .arg(scene("cornell-path.glint"))
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr).to_string();
+        assert!(output.status.success(), "{stderr}");
+        let bytes = std::fs::read(&out).expect("PPM written");
+        let _ = std::fs::remove_file(out);
+        (bytes, stderr)
+    };
+    let (cpu, _) = render("cpu");
+    let (gpu, stderr) = render("gpu");
+    assert!(stderr.contains("on the GPU"), "{stderr}");
+    assert_eq!(cpu.len(), gpu.len());
+    // 8-bit sRGB: the same samples give the same bytes, give or take one step of rounding.
+    let worst = cpu.iter().zip(&gpu).map(|(a, b)| a.abs_diff(*b)).max().unwrap();
+    assert!(worst <= 1, "largest difference {worst} steps");
+}

@@ -1,0 +1,31 @@
+//! What the GPU cannot do is said in one sentence: a buffer over the adapter's limit
+//! names the limit, and a scene with a feature the GPU does not render names it.
+
+mod common;
+
+use glint_gpu::GpuError;
+use glint_gpu::upload::GpuScene;
+
+#[test]
+fn a_scene_over_the_buffer_limit_is_refused_naming_the_limit() {
+    let Some(mut gpu) = common::gpu() else { return };
+    let scene = common::scene_file("mesh-instances.glint", 8, 8, 1);
+    gpu.limits.max_storage_buffer_binding_size = 4096;
+    let Err(e) = GpuScene::new_geometry(&gpu, &scene) else { panic!("a 4 KiB limit cannot hold a mesh") };
+    assert!(matches!(e, GpuError::TooLarge { limit: 4096, .. }), "{e:?}");
+    let message = e.to_string();
+    assert!(message.contains("max_storage_buffer_binding_size = 4096 bytes"), "{message}");
+}
+
+#[test]
+fn features_the_gpu_lacks_are_named() {
+    let mut csg = common::scene_file("csg.glint", 8, 8, 1);
+    csg.settings.integrator = glint_core::desc::IntegratorDesc::Path(Default::default());
+    let why = glint_gpu::upload::unsupported(&csg).expect("CSG is not on the GPU yet");
+    assert!(why.contains("Csg"), "{why}");
+    let whitted = common::scene_file("default.glint", 8, 8, 1);
+    let why = glint_gpu::upload::unsupported(&whitted).expect("Whitted is not on the GPU yet");
+    assert!(why.contains("Whitted"), "{why}");
+    let path = common::scene_file("cornell-path.glint", 8, 8, 1);
+    assert_eq!(glint_gpu::upload::unsupported(&path), None);
+}
