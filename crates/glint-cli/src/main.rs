@@ -486,6 +486,7 @@ fn render_on_gpu(
 ) -> Result<(), Failure> {
     let start = Instant::now();
     let mut film = glint_gpu::Progressive::new(gpu, scene)?;
+    let setup = start.elapsed().as_secs_f64();
     let total = scene.settings.spp;
     let bar = progress_bar(args.quiet);
     bar.set_length(total as u64);
@@ -509,11 +510,13 @@ fn render_on_gpu(
         let seconds = start.elapsed().as_secs_f64();
         let (w, h) = (scene.settings.width, scene.settings.height);
         let samples = w as f64 * h as f64 * total as f64;
+        // Setup (upload and kernel compilation, which a driver may cache) is reported
+        // apart: the rate is the rendering's own.
         eprintln!(
-            "wrote {} ({w}x{h}, {total} spp) in {seconds:.2} s on the GPU {}: {:.2} M samples/s",
+            "wrote {} ({w}x{h}, {total} spp) in {seconds:.2} s on the GPU {} ({setup:.2} s setup): {:.2} M samples/s",
             args.output.display(),
             gpu.describe(),
-            samples / seconds / 1e6,
+            samples / (seconds - setup).max(1e-9) / 1e6,
         );
     }
     Ok(())
