@@ -43,7 +43,8 @@ impl<'g> Progressive<'g> {
         if film_bytes > limit {
             return Err(GpuError::TooLarge { what: "film", needed: film_bytes, limit });
         }
-        let capacity = (SAMPLES_PER_DISPATCH / pixels).min(limit / film_bytes).clamp(1, scene.settings.spp as u64) as u32;
+        let capacity =
+            (SAMPLES_PER_DISPATCH / pixels).min(limit / film_bytes).clamp(1, scene.settings.spp as u64) as u32;
         let storage = |label: &str, size: u64, usage: wgpu::BufferUsages| {
             gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
