@@ -9,7 +9,7 @@ use glint_core::accel::WideNode;
 use glint_core::bsdf::Bsdf;
 use glint_core::emitter::Emitter;
 use glint_core::mesh::Triangle4;
-use glint_core::scene::Instance;
+use glint_core::scene::{Instance, Motion};
 use glint_core::texture::Texture;
 
 use crate::gpu_record;
@@ -79,6 +79,23 @@ gpu_record!(pub TEXTURE = Texture as "Texture" {
     even: Vec3 => even,
     odd: Vec3 => odd,
     cells: Vec2 => cells,
+});
+
+gpu_record!(pub MOTION = Motion as "Motion" {
+    inner_world_from_object: Mat4 => inner.world_from_object,
+    inner_object_from_world: Mat4 => inner.object_from_world,
+    outer_world_from_object: Mat4 => outer.world_from_object,
+    outer_object_from_world: Mat4 => outer.object_from_world,
+    open_rotation: Vec4 => open.rotation,
+    open_translation: Vec3 => open.translation,
+    open_pad: F32 => open._pad0,
+    open_scale: Vec3 => open.scale,
+    open_pad1: F32 => open._pad1,
+    close_rotation: Vec4 => close.rotation,
+    close_translation: Vec3 => close.translation,
+    close_pad: F32 => close._pad0,
+    close_scale: Vec3 => close.scale,
+    close_pad1: F32 => close._pad1,
 });
 
 /// Where one mesh's data starts in the concatenated arrays: its BVH nodes and triangle
@@ -157,7 +174,8 @@ pub struct Params {
     pub texel_offset: u32,
     /// Word-array index of the per-instance first emitter.
     pub instance_emitter_offset: u32,
-    pub reserved0: u32,
+    /// 1 when some instance moves: each path then draws a time in the shutter.
+    pub has_motion: u32,
     pub reserved1: u32,
     pub background: [f32; 4],
     pub env_scale: [f32; 4],
@@ -197,7 +215,7 @@ gpu_record!(pub PARAMS = Params as "Params" {
     node_count: U32 => node_count,
     texel_offset: U32 => texel_offset,
     instance_emitter_offset: U32 => instance_emitter_offset,
-    reserved0: U32 => reserved0,
+    has_motion: U32 => has_motion,
     reserved1: U32 => reserved1,
     background: Vec4 => background,
     env_scale: Vec4 => env_scale,
@@ -211,4 +229,4 @@ gpu_record!(pub PARAMS = Params as "Params" {
 });
 
 /// Every record, for the layout test and for generating the shader prelude.
-pub const ALL: [Record; 8] = [INSTANCE, WIDE_NODE, TRIANGLE4, BSDF, EMITTER, TEXTURE, GPU_MESH, PARAMS];
+pub const ALL: [Record; 9] = [INSTANCE, WIDE_NODE, TRIANGLE4, BSDF, EMITTER, TEXTURE, MOTION, GPU_MESH, PARAMS];

@@ -193,6 +193,7 @@ impl Kernels {
             (binding::TEXTURES, &b.textures),
             (binding::SAMPLES, samples),
             (binding::ACCUM, accum),
+            (binding::MOTIONS, &b.motions),
         ];
         let entries: Vec<_> = entries
             .iter()
@@ -328,6 +329,7 @@ fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     for b in [binding::SAMPLES, binding::ACCUM] {
         entries.push(entry(b, wgpu::BufferBindingType::Storage { read_only: false }));
     }
+    entries.push(entry(binding::MOTIONS, wgpu::BufferBindingType::Storage { read_only: true }));
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("scene"), entries: &entries })
 }
 

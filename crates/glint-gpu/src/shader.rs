@@ -17,8 +17,9 @@ pub mod binding {
     pub const TEXTURES: u32 = 9;
     pub const SAMPLES: u32 = 10;
     pub const ACCUM: u32 = 11;
+    pub const MOTIONS: u32 = 12;
     /// Storage buffers (everything but the parameters).
-    pub const STORAGE_COUNT: u32 = 11;
+    pub const STORAGE_COUNT: u32 = 12;
 }
 
 const MODULES: [&str; 7] = [
@@ -50,6 +51,7 @@ pub fn bindings() -> String {
     out += &storage(FLOATS, "floats", "array<f32>");
     out += &storage(WORDS, "words", "array<u32>");
     out += &storage(TEXTURES, "textures", "array<Texture>");
+    out += &storage(MOTIONS, "motions", "array<Motion>");
     out += &format!("@group(0) @binding({SAMPLES}) var<storage, read_write> samples: array<vec4<f32>>;\n");
     out += &format!("@group(0) @binding({ACCUM}) var<storage, read_write> accum: array<vec4<f32>>;\n");
     out

@@ -29,6 +29,7 @@ pub(crate) struct SceneBuffers {
     pub floats: wgpu::Buffer,
     pub words: wgpu::Buffer,
     pub textures: wgpu::Buffer,
+    pub motions: wgpu::Buffer,
 }
 
 /// What the GPU backend cannot render yet, as a sentence; `None` when it can.
@@ -47,9 +48,6 @@ pub fn unsupported(scene: &RenderScene) -> Option<String> {
 }
 
 fn unsupported_shape(scene: &RenderScene) -> Option<String> {
-    if !scene.motions.is_empty() {
-        return Some("motion blur".into());
-    }
     let kind = scene.instances.iter().map(|i| i.shape.kind).find(|k| {
         !matches!(
             k,
@@ -162,6 +160,7 @@ impl GpuScene {
             floats: buffer("vertices, textures and tables", bytemuck::cast_slice(&a.floats))?,
             words: buffer("triangle indices", bytemuck::cast_slice(&a.words))?,
             textures: buffer("textures", records_bytes(&scene.textures))?,
+            motions: buffer("motions", records_bytes(&scene.motions))?,
         };
         Ok(GpuScene { buffers, params })
     }
@@ -218,7 +217,7 @@ fn params(scene: &RenderScene, a: &mut Arrays, texel_offset: u32, instance_emitt
         node_count: scene.bvh.nodes.len() as u32,
         texel_offset,
         instance_emitter_offset,
-        reserved0: 0,
+        has_motion: (!scene.motions.is_empty()) as u32,
         reserved1: 0,
         background: vec4(s.background),
         env_scale: [0.0; 4],

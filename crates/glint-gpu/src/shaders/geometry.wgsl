@@ -547,14 +547,87 @@ struct SceneHit {
     shape: ShapeHit,
 }
 
-fn object_ray(inst: Instance, r: Ray) -> Ray {
-    let m = inst.object_from_world;
+// ---- placement and motion (glint_core::scene::motion) ----
+
+struct Xform {
+    world_from_object: mat4x4<f32>,
+    object_from_world: mat4x4<f32>,
+}
+
+// glam's Quat::slerp (its acos and sin are approximations; WGSL's are the driver's).
+fn quat_slerp(a: vec4<f32>, b_in: vec4<f32>, s: f32) -> vec4<f32> {
+    var b = b_in;
+    var d = dot(a, b);
+    if d < 0.0 {
+        b = -b;
+        d = -d;
+    }
+    if d > 1.0 - 1.1920929e-7 {
+        return normalize(mix(a, b, s));
+    }
+    let theta = acos(d);
+    return (a * sin((1.0 - s) * theta) + b * sin(s * theta)) / sin(theta);
+}
+
+fn quat_matrix(q: vec4<f32>) -> mat4x4<f32> {
+    let x2 = q.x + q.x;
+    let y2 = q.y + q.y;
+    let z2 = q.z + q.z;
+    let xx = q.x * x2;
+    let xy = q.x * y2;
+    let xz = q.x * z2;
+    let yy = q.y * y2;
+    let yz = q.y * z2;
+    let zz = q.z * z2;
+    let wx = q.w * x2;
+    let wy = q.w * y2;
+    let wz = q.w * z2;
+    return mat4x4<f32>(
+        vec4<f32>(1.0 - (yy + zz), xy + wz, xz - wy, 0.0),
+        vec4<f32>(xy - wz, 1.0 - (xx + zz), yz + wx, 0.0),
+        vec4<f32>(xz + wy, yz - wx, 1.0 - (xx + yy), 0.0),
+        vec4<f32>(0.0, 0.0, 0.0, 1.0),
+    );
+}
+
+fn translation(t: vec3<f32>) -> mat4x4<f32> {
+    return mat4x4<f32>(vec4<f32>(1.0, 0.0, 0.0, 0.0), vec4<f32>(0.0, 1.0, 0.0, 0.0), vec4<f32>(0.0, 0.0, 1.0, 0.0), vec4<f32>(t, 1.0));
+}
+
+fn scaling(s: vec3<f32>) -> mat4x4<f32> {
+    return mat4x4<f32>(vec4<f32>(s.x, 0.0, 0.0, 0.0), vec4<f32>(0.0, s.y, 0.0, 0.0), vec4<f32>(0.0, 0.0, s.z, 0.0), vec4<f32>(0.0, 0.0, 0.0, 1.0));
+}
+
+// Motion::at: the open and close poses interpolated at `time`, between the inner and
+// outer transforms.
+fn motion_at(m: Motion, time: f32) -> Xform {
+    let s = mix(v3(m.open_scale), v3(m.close_scale), time);
+    let q = quat_slerp(m.open_rotation, m.close_rotation, time);
+    let t = mix(v3(m.open_translation), v3(m.close_translation), time);
+    let rotation = quat_matrix(q);
+    let pose_w = translation(t) * rotation * scaling(s);
+    let pose_o = scaling(1.0 / s) * transpose(rotation) * translation(-t);
+    return Xform(
+        m.outer_world_from_object * pose_w * m.inner_world_from_object,
+        m.inner_object_from_world * pose_o * m.outer_object_from_world,
+    );
+}
+
+fn instance_xform(inst: Instance, time: f32) -> Xform {
+    if inst.motion == NO_INDEX {
+        return Xform(inst.world_from_object, inst.object_from_world);
+    }
+    return motion_at(motions[inst.motion], time);
+}
+
+fn object_ray(x: Xform, r: Ray) -> Ray {
+    let m = x.object_from_world;
     return Ray((m * vec4<f32>(r.origin, 1.0)).xyz, (m * vec4<f32>(r.dir, 0.0)).xyz, r.time);
 }
 
 fn intersect_instance(index: u32, r: Ray, t_max: f32, any_hit: bool) -> ShapeHit {
     let inst = instances[index];
-    let local = object_ray(inst, r);
+    let local = object_ray(instance_xform(inst, r.time), r);
     if inst.kind == KIND_MESH {
         return trace_mesh(meshes[bitcast<u32>(inst.param)], local, t_max, any_hit);
     }
@@ -634,8 +707,8 @@ struct Hit {
     part: u32,
 }
 
-fn normal_to_world(inst: Instance, n: vec3<f32>) -> vec3<f32> {
-    let m = inst.object_from_world;
+fn normal_to_world(x: Xform, n: vec3<f32>) -> vec3<f32> {
+    let m = x.object_from_world;
     // (M⁻¹)ᵀ n, with M⁻¹'s upper 3×3 stored column by column.
     return vec3<f32>(dot(m[0].xyz, n), dot(m[1].xyz, n), dot(m[2].xyz, n));
 }
@@ -646,17 +719,18 @@ fn mesh_vertex(mesh: GpuMesh, i: u32) -> vec3<f32> {
 
 fn hit_from(r: Ray, found: SceneHit) -> Hit {
     let inst = instances[found.instance];
-    let local = object_ray(inst, r);
+    let xform = instance_xform(inst, r.time);
+    let local = object_ray(xform, r);
     let h = found.shape;
     var hit: Hit;
     hit.t = h.t;
     hit.material = inst.material;
     hit.instance = found.instance;
     hit.part = h.part;
-    let to_world = inst.world_from_object;
+    let to_world = xform.world_from_object;
     if inst.kind != KIND_MESH {
         let s = analytic_surface(inst.kind, local, h);
-        let n = normalize_or(normal_to_world(inst, s.normal), vec3<f32>(0.0, 1.0, 0.0));
+        let n = normalize_or(normal_to_world(xform, s.normal), vec3<f32>(0.0, 1.0, 0.0));
         hit.point = (to_world * vec4<f32>(s.point, 1.0)).xyz;
         hit.normal = n;
         hit.geometric_normal = n;
@@ -694,10 +768,10 @@ fn hit_from(r: Ray, found: SceneHit) -> Hit {
         let u2 = vec2<f32>(floats[mesh.uv_offset + 2u * i2], floats[mesh.uv_offset + 2u * i2 + 1u]);
         uv = bary.x * u0 + bary.y * u1 + bary.z * u2;
     }
-    let n = normalize_or(normal_to_world(inst, normal), vec3<f32>(0.0, 1.0, 0.0));
+    let n = normalize_or(normal_to_world(xform, normal), vec3<f32>(0.0, 1.0, 0.0));
     hit.point = (to_world * vec4<f32>(point, 1.0)).xyz;
     hit.normal = n;
-    hit.geometric_normal = normalize_or(normal_to_world(inst, geometric), n);
+    hit.geometric_normal = normalize_or(normal_to_world(xform, geometric), n);
     hit.uv = uv;
     return hit;
 }

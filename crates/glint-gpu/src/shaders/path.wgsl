@@ -208,7 +208,10 @@ fn path_sample(px: u32, py: u32, index: u32) -> vec3<f32> {
     }
     let fx = f32(px) + offset.x;
     let fy = f32(py) + offset.y;
-    let r = camera_ray(2.0 * fx / f32(params.width) - 1.0, 1.0 - 2.0 * fy / f32(params.height), lens);
+    var r = camera_ray(2.0 * fx / f32(params.width) - 1.0, 1.0 - 2.0 * fy / f32(params.height), lens);
+    if params.has_motion != 0u {
+        r.time = next_1d(&sampler);
+    }
     let value = path_radiance(r, &sampler);
     if !finite3(value) {
         return vec3<f32>(0.0);
