@@ -420,6 +420,9 @@ impl Mesh {
 #[cfg(test)]
 mod tests;
 
+#[cfg(test)]
+mod extreme_tests;
+
 /// What a [`crate::shape::Shape`] of kind `Mesh` can say on its own: nothing, since the
 /// triangles live in [`crate::scene::RenderScene::meshes`]. The scene routes mesh
 /// instances to [`Mesh`] before the shape dispatch; this keeps that dispatch total.
