@@ -243,11 +243,11 @@ pub(super) struct SlabRay<L> {
 impl<L: F32x8> SlabRay<L> {
     #[inline(always)]
     pub(super) fn new(ray: &Ray) -> Self {
-        // A zero direction component becomes a tiny one of the same sign: 1/d stays
-        // finite and nonzero, so no 0·∞ = NaN appears when the origin lies on a slab
-        // plane, and an empty lane (+∞ … −∞) is never entered.
-        let tiny = |d: f32| if d.abs() < 1e-30 { 1e-30f32.copysign(d) } else { d };
-        let inv = Vec3::new(tiny(ray.dir.x), tiny(ray.dir.y), tiny(ray.dir.z)).recip();
+        // A zero component gives 1/d = ±∞: the slab distances are then ±∞ (the ray
+        // never crosses that plane) or, where the origin lies on the plane, 0·∞ = NaN,
+        // which `interval` ignores, so the ray counts as inside the closed slab for all
+        // t. An empty lane (+∞ … −∞) is never entered: ∞ − o is never 0.
+        let inv = ray.dir.recip();
         // The plane a ray meets first on each axis is the lower one where it travels
         // up that axis and the upper one otherwise, so each axis costs one subtract and
         // one multiply per plane and no min/max (Williams et al., "An Efficient and
@@ -268,9 +268,12 @@ impl<L: F32x8> SlabRay<L> {
         let slab = |plane: usize, axis: usize| L::load(&n.bounds[plane]).sub(self.origin[axis]).mul(self.inv[axis]);
         let [nx, ny, nz] = self.near_plane;
         let [fx, fy, fz] = self.far_plane;
-        let near = slab(nx, 0).max(slab(ny, 1)).max(slab(nz, 2).max(L::splat(0.0)));
+        // `min` and `max` return their second operand where either is NaN: each slab
+        // distance comes first, so a NaN one (origin on that plane, d parallel to it)
+        // drops out and the accumulator, which starts finite, never becomes NaN.
+        let near = slab(nx, 0).max(slab(ny, 1).max(slab(nz, 2).max(L::splat(0.0))));
         // Widened as in `Aabb::hit_interval` so flat boxes hit on an edge are kept.
-        let far = slab(fx, 0).min(slab(fy, 1)).min(slab(fz, 2));
+        let far = slab(fx, 0).min(slab(fy, 1).min(slab(fz, 2).min(L::splat(f32::INFINITY))));
         (near, far.mul(L::splat(ROBUST_FAR)).min(L::splat(t_max)))
     }
 
@@ -387,6 +390,60 @@ mod tests {
                     // SAFETY: AVX2 was detected just above.
                     let found = collect(&|v| unsafe { avx(&wide, order, &ray, v) });
                     assert_eq!(brute, found);
+                }
+            }
+        }
+    }
+
+    /// A ray in a face plane of a box, parallel to it (a zero direction component of
+    /// either sign), is inside that closed slab for all t and enters the box, on the
+    /// lower face and the upper and on every lane implementation. A ±0 component was
+    /// once taken for a tiny ±1e-30, which leaves the plane at t = 0.
+    #[test]
+    fn rays_in_a_face_plane_enter_the_box() {
+        let b = Aabb::new(Vec3::ZERO, Vec3::new(1.0, 2.0, 3.0));
+        let wide = WideBvh::from_binary(&Bvh::build(&[b]).0);
+        // Leaves visited, per lane implementation this CPU has.
+        let visits = |order: Order, ray: &Ray| {
+            let mut counts = Vec::new();
+            let mut n = 0;
+            wide.traverse_with::<Portable, ()>(order, &[], ray, &mut { f32::INFINITY }, |_, _| {
+                n += 1;
+                false
+            });
+            counts.push(n);
+            #[cfg(target_arch = "x86_64")]
+            if super::super::lanes::has_avx2() {
+                #[target_feature(enable = "avx2")]
+                fn avx(w: &WideBvh, o: Order, r: &Ray, v: &mut Visit) {
+                    w.traverse_with::<super::super::lanes::Avx2, ()>(o, &[], r, &mut { f32::INFINITY }, v);
+                }
+                let mut n = 0;
+                // SAFETY: AVX2 was detected just above.
+                unsafe {
+                    avx(&wide, order, ray, &mut |_, _| {
+                        n += 1;
+                        false
+                    })
+                };
+                counts.push(n);
+            }
+            counts
+        };
+        for axis in 0..3 {
+            let (next, last) = ((axis + 1) % 3, (axis + 2) % 3);
+            for face in [b.min[axis], b.max[axis]] {
+                for zero in [0.0, -0.0] {
+                    // From outside the box on the next axis, into it, a little askew.
+                    let mut origin = b.center();
+                    (origin[axis], origin[next]) = (face, -1.0);
+                    let mut dir = Vec3::ZERO;
+                    (dir[axis], dir[next], dir[last]) = (zero, 1.0, 0.1);
+                    let ray = Ray::new(origin, dir);
+                    for order in [Order::NearestFirst, Order::Any] {
+                        let counts = visits(order, &ray);
+                        assert!(counts.iter().all(|&n| n == 1), "{ray:?} in face {face} of axis {axis}: {counts:?}");
+                    }
                 }
             }
         }

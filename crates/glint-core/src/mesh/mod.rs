@@ -67,6 +67,15 @@ fn terminator_point(p: Vec3, bary: Vec3, v: [Vec3; 3], n: [Vec3; 3]) -> Vec3 {
     out
 }
 
+/// Whether the corners are not collinear: the edges' cross product, in f64, is not
+/// zero (exactly so: the edges and products of f32 corners are exact in f64, so only
+/// equal products cancel). In f32 the product underflows, and its squared length much
+/// sooner, for triangles that rays still hit: edges under about 1e-11.
+fn has_area(a: Vec3, b: Vec3, c: Vec3) -> bool {
+    let [a, b, c] = [a, b, c].map(|p| p.as_dvec3());
+    (b - a).cross(c - a) != glam::DVec3::ZERO
+}
+
 /// Why a [`MeshDesc`] cannot be compiled.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum MeshError {
@@ -108,7 +117,7 @@ impl Mesh {
                 return Err(MeshError::IndexOutOfRange { triangle, index, count });
             }
             let [a, b, c] = [tri[0], tri[1], tri[2]].map(|i| desc.positions[i as usize]);
-            if (b - a).cross(c - a).length_squared() > 0.0 {
+            if has_area(a, b, c) {
                 triangles.push([tri[0], tri[1], tri[2]]);
             } else {
                 degenerate += 1;
@@ -410,6 +419,9 @@ impl Mesh {
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+mod extreme_tests;
 
 /// What a [`crate::shape::Shape`] of kind `Mesh` can say on its own: nothing, since the
 /// triangles live in [`crate::scene::RenderScene::meshes`]. The scene routes mesh

@@ -95,6 +95,13 @@ fn compile_rejects_bad_meshes_and_drops_degenerate_triangles() {
     assert_eq!(Mesh::compile(&ragged), Err(MeshError::Ragged(2)));
     let normals = MeshDesc { normals: vec![Vec3::Z], ..base.clone() };
     assert!(matches!(Mesh::compile(&normals), Err(MeshError::AttributeCount { .. })));
+    // Small is not degenerate: 1e-12 across, the squared length of the f32 cross
+    // product underflows, but the triangle has area and rays hit it.
+    let tiny = MeshDesc { positions: base.positions.iter().map(|p| *p * 1e-12).collect(), ..base.clone() };
+    let mesh = Mesh::compile(&tiny).unwrap();
+    assert_eq!((mesh.triangles.len(), mesh.degenerate), (1, 0));
+    let ray = Ray::new(Vec3::new(0.25, 0.25, 1.0) * 1e-12, Vec3::NEG_Z);
+    assert!(mesh.intersect(&ray, f32::INFINITY).is_some_and(|h| (h.t - 1e-12).abs() < 1e-18));
     let degenerate = MeshDesc { indices: vec![0, 1, 2, 0, 0, 1, 1, 1, 1], ..base };
     let mesh = Mesh::compile(&degenerate).unwrap();
     assert_eq!((mesh.triangles.len(), mesh.degenerate), (1, 2));

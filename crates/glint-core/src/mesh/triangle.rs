@@ -113,12 +113,11 @@ pub fn intersect(ray: &WatertightRay, p0: Vec3, p1: Vec3, p2: Vec3, t_max: f32) 
     }
     let sz = ray.shear.z;
     let t_scaled = u * (sz * a.z) + v * (sz * b.z) + w * (sz * c.z);
-    // t = T/det must lie in (0, t_max); compare without dividing, sign by sign.
-    if det > 0.0 {
-        if t_scaled <= 0.0 || t_scaled >= t_max * det {
-            return None;
-        }
-    } else if t_scaled >= 0.0 || t_scaled <= t_max * det {
+    // In front (t = T/det > 0) where T and det have one sign; t_max bounds the divided
+    // t alone. Comparing `T < t_max·det` instead, to save the division, refused hits a
+    // larger t_max accepted once the products were subnormal (corners about 1e-19 from
+    // the ray), so which of two triangles won depended on the order they were tested in.
+    if !(if det > 0.0 { t_scaled > 0.0 } else { t_scaled < 0.0 }) {
         return None;
     }
     let inv_det = 1.0 / det;
@@ -146,6 +145,47 @@ mod tests {
         assert!(hit(Vec3::new(1.0, 1.0, 2.0), Vec3::Z, tri).is_none());
         let r = WatertightRay::new(&Ray::new(Vec3::new(1.0, 1.0, 2.0), Vec3::NEG_Z)).unwrap();
         assert!(intersect(&r, tri[0], tri[1], tri[2], 1.5).is_none());
+    }
+
+    /// Whether a triangle is hit depends on t_max only through t < t_max: with corners
+    /// about 1e-19 from a ray whose direction is 1e-10 long, `T` and `t_max·det` are
+    /// subnormal, and `T < t_max·det` (compared to save the division) refused hits a
+    /// larger t_max accepted, so the closest of two depended on the order tested.
+    #[test]
+    fn t_max_only_bounds_t_even_where_t_and_det_are_subnormal() {
+        let ray = Ray::new(
+            Vec3::new(-1.4234867e-18, -1.929634e-19, 1.2044693e-18),
+            Vec3::new(8.330293e-11, 0.0, -5.5322885e-11),
+        );
+        let w = WatertightRay::new(&ray).unwrap();
+        let triangles = [
+            [
+                Vec3::ZERO,
+                Vec3::new(3.171191e-19, -4.5011943e-19, 7.907504e-19),
+                Vec3::new(-5.0937643e-20, 5.2608706e-20, -6.8172333e-19),
+            ],
+            [
+                Vec3::new(-5.0937643e-20, 5.2608706e-20, -6.8172333e-19),
+                Vec3::new(3.171191e-19, -4.5011943e-19, 7.907504e-19),
+                Vec3::new(-5.674402e-19, 0.0, 0.0),
+            ],
+            [Vec3::new(0.0, -9.429014e-19, 0.0), Vec3::ZERO, Vec3::new(9.381497e-19, 0.0, -8.3752466e-19)],
+            [
+                Vec3::new(4.0957515e-19, -9.220986e-19, 0.0),
+                Vec3::new(-3.544334e-19, -5.4512055e-19, 0.0),
+                Vec3::new(9.365551e-19, 5.0078734e-19, 0.0),
+            ],
+        ];
+        let mut hits = 0;
+        for [a, b, c] in triangles {
+            let Some(h) = intersect(&w, a, b, c, f32::INFINITY) else { continue };
+            hits += 1;
+            for t_max in [h.t * (1.0 + 1e-6), h.t * 1.03, h.t * 2.0] {
+                assert_eq!(intersect(&w, a, b, c, t_max).map(|g| g.t), Some(h.t), "t_max {t_max}");
+            }
+            assert!(intersect(&w, a, b, c, h.t).is_none(), "t = t_max is outside (0, t_max)");
+        }
+        assert!(hits >= 2, "the ray passes through the fan: {hits} hits");
     }
 
     #[test]

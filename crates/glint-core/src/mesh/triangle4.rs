@@ -108,10 +108,9 @@ fn test(ray: &WatertightRay4, packet: &Triangle4, t_max: f32) -> Lanes {
     }
     let det = u + v + w;
     let t_scaled = u * (sz * az) + v * (sz * bz) + w * (sz * cz);
-    // t = T/det in (0, t_max), compared without dividing, sign by sign.
-    let bound = Vec4::splat(t_max) * det;
-    let in_front = (det.cmpgt(zero) & t_scaled.cmpgt(zero) & t_scaled.cmplt(bound))
-        | (det.cmplt(zero) & t_scaled.cmplt(zero) & t_scaled.cmpgt(bound));
+    // In front where T and det have one sign; t_max bounds the divided t alone, as in
+    // the scalar test (`T < t_max·det` is unreliable once the products are subnormal).
+    let in_front = (det.cmpgt(zero) & t_scaled.cmpgt(zero)) | (det.cmplt(zero) & t_scaled.cmplt(zero));
     let candidate = inside & in_front;
     if !candidate.any() {
         return Lanes { hit: candidate, t: zero, on_edge: on_edge.bitmask() };

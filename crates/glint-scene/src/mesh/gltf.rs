@@ -13,6 +13,8 @@ use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec2, Vec3};
 use glint_core::desc::{MaterialDesc, MeshDesc, Transfer};
+use gltf::accessor::{DataType, Dimensions};
+use gltf::mesh::Semantic;
 
 use super::{MeshImport, Placement, degenerate_warning, mesh_error, read_limited};
 use crate::error::SceneError;
@@ -106,6 +108,29 @@ fn buffers(
     Ok(out)
 }
 
+/// What a primitive's accessor must hold to be read: the element shape and the
+/// component types its reader takes.
+struct Expect {
+    what: &'static str,
+    dimensions: Dimensions,
+    types: &'static [DataType],
+}
+
+const POSITION: Expect = Expect { what: "POSITION", dimensions: Dimensions::Vec3, types: &[DataType::F32] };
+const NORMAL: Expect = Expect { what: "NORMAL", dimensions: Dimensions::Vec3, types: &[DataType::F32] };
+const TEXCOORD_0: Expect =
+    Expect { what: "TEXCOORD_0", dimensions: Dimensions::Vec2, types: &[DataType::F32, DataType::U8, DataType::U16] };
+const INDICES: Expect =
+    Expect { what: "indices", dimensions: Dimensions::Scalar, types: &[DataType::U8, DataType::U16, DataType::U32] };
+
+/// Whether `count` (at least one) elements of `size` bytes, `stride` (at least `size`)
+/// apart from byte `offset`, end within `length` bytes; checked, so that no count or
+/// offset a file claims can overflow.
+fn fits(length: usize, offset: usize, stride: usize, count: usize, size: usize) -> bool {
+    let end = count.checked_sub(1).and_then(|n| n.checked_mul(stride)).and_then(|b| b.checked_add(offset));
+    stride >= size && end.and_then(|b| b.checked_add(size)).is_some_and(|end| end <= length)
+}
+
 struct State<'a> {
     path: &'a Path,
     buffers: &'a [gltf::buffer::Data],
@@ -141,7 +166,15 @@ impl State<'_> {
                 let index = match self.meshes.get(&key) {
                     Some(&i) => i,
                     None => {
-                        let desc = self.primitive(&mesh, &primitive)?;
+                        let Some(desc) = self.primitive(&mesh, &primitive)? else {
+                            let message = format!(
+                                "{}: skipped an empty primitive of mesh {} (an accessor with no elements)",
+                                self.path.display(),
+                                mesh.index()
+                            );
+                            self.import.warnings.push(message);
+                            continue;
+                        };
                         degenerate_warning(self.path, &desc, &mut self.import.warnings);
                         self.import.meshes.push(desc);
                         self.meshes.insert(key, self.import.meshes.len() - 1);
@@ -161,41 +194,103 @@ impl State<'_> {
         Ok(())
     }
 
-    fn primitive(&self, mesh: &gltf::Mesh, primitive: &gltf::Primitive) -> Result<MeshDesc, SceneError> {
-        let reader = primitive.reader(|b| self.buffers.get(b.index()).map(|d| &d.0[..]));
-        let positions: Vec<Vec3> = reader
-            .read_positions()
-            .ok_or_else(|| {
-                mesh_error(self.path, 0, format!("mesh {} has a primitive without positions", mesh.index()))
-            })?
-            .map(Vec3::from)
-            .collect();
-        if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
-            return Err(mesh_error(self.path, 0, format!("mesh {}: vertex {i} is not finite", mesh.index())));
+    /// The primitive's triangles, or `None` where an accessor it needs has no elements
+    /// (a zero-length buffer view).
+    fn primitive(&self, mesh: &gltf::Mesh, primitive: &gltf::Primitive) -> Result<Option<MeshDesc>, SceneError> {
+        let m = mesh.index();
+        let unreadable = |what: &str| mesh_error(self.path, 0, format!("mesh {m}: the {what} data cannot be read"));
+        let positions = primitive
+            .get(&Semantic::Positions)
+            .ok_or_else(|| mesh_error(self.path, 0, format!("mesh {m} has a primitive without positions")))?;
+        if !self.readable(m, &positions, &POSITION)? {
+            return Ok(None);
         }
-        let normals: Vec<Vec3> = reader.read_normals().map(|n| n.map(Vec3::from).collect()).unwrap_or_default();
+        let reader = primitive.reader(|b| self.buffers.get(b.index()).map(|d| &d.0[..]));
+        let positions: Vec<Vec3> =
+            reader.read_positions().ok_or_else(|| unreadable(POSITION.what))?.map(Vec3::from).collect();
+        if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(mesh_error(self.path, 0, format!("mesh {m}: vertex {i} is not finite")));
+        }
+        let readable = |semantic: &Semantic, expect: &Expect| -> Result<bool, SceneError> {
+            primitive.get(semantic).map_or(Ok(false), |a| self.readable(m, &a, expect))
+        };
+        let normals: Vec<Vec3> = if readable(&Semantic::Normals, &NORMAL)? {
+            reader.read_normals().ok_or_else(|| unreadable(NORMAL.what))?.map(Vec3::from).collect()
+        } else {
+            vec![]
+        };
         // glTF's v runs down the image; glint's runs up.
-        let uvs: Vec<Vec2> = reader
-            .read_tex_coords(0)
-            .map(|t| t.into_f32().map(|[u, v]| Vec2::new(u, 1.0 - v)).collect())
-            .unwrap_or_default();
-        let indices: Vec<u32> = match reader.read_indices() {
-            Some(i) => i.into_u32().collect(),
+        let uvs: Vec<Vec2> = if readable(&Semantic::TexCoords(0), &TEXCOORD_0)? {
+            let uvs = reader.read_tex_coords(0).ok_or_else(|| unreadable(TEXCOORD_0.what))?;
+            uvs.into_f32().map(|[u, v]| Vec2::new(u, 1.0 - v)).collect()
+        } else {
+            vec![]
+        };
+        let indices: Vec<u32> = match primitive.indices() {
+            Some(accessor) if !self.readable(m, &accessor, &INDICES)? => return Ok(None),
+            Some(_) => reader.read_indices().ok_or_else(|| unreadable(INDICES.what))?.into_u32().collect(),
             None => (0..positions.len() as u32).collect(),
         };
         if let Some(&i) = indices.iter().find(|&&i| i as usize >= positions.len()) {
-            let message = format!("mesh {}: index {i} is out of range ({} vertices)", mesh.index(), positions.len());
+            let message = format!("mesh {m}: index {i} is out of range ({} vertices)", positions.len());
             return Err(mesh_error(self.path, 0, message));
         }
         let count = positions.len();
-        Ok(MeshDesc {
-            name: mesh.name().map_or_else(|| format!("mesh{}", mesh.index()), str::to_owned),
+        Ok(Some(MeshDesc {
+            name: mesh.name().map_or_else(|| format!("mesh{m}"), str::to_owned),
             path: self.path.display().to_string(),
             normals: if normals.len() == count { normals } else { vec![] },
             uvs: if uvs.len() == count { uvs } else { vec![] },
             positions,
             indices: indices[..indices.len() / 3 * 3].to_vec(),
-        })
+        }))
+    }
+
+    /// Checks what the `gltf` crate's readers take for granted of an accessor and
+    /// panic on otherwise (some only in debug builds): elements of the type the reader
+    /// handles, no closer together than their size, and within their buffer views (it
+    /// computes where the data ends from `count − 1`, which underflows for an empty
+    /// accessor). `Ok(false)`: the accessor has no elements, so there is nothing to read.
+    fn readable(&self, mesh: usize, accessor: &gltf::Accessor, expect: &Expect) -> Result<bool, SceneError> {
+        let fail = |problem: String| {
+            let message = format!("mesh {mesh}: the {} accessor ({}) {problem}", expect.what, accessor.index());
+            Err(mesh_error(self.path, 0, message))
+        };
+        let (dimensions, data_type) = (accessor.dimensions(), accessor.data_type());
+        if dimensions != expect.dimensions || !expect.types.contains(&data_type) {
+            let expected = format!("{:?} of {:?}", expect.dimensions, expect.types);
+            return fail(format!("holds {dimensions:?} of {data_type:?}; expected {expected}"));
+        }
+        if accessor.count() == 0 {
+            return Ok(false);
+        }
+        let size = accessor.size();
+        if let Some(view) = accessor.view() {
+            let stride = view.stride().unwrap_or(size);
+            if stride < size {
+                return fail(format!("has {size}-byte elements only {stride} bytes apart (the buffer view's stride)"));
+            }
+            if !fits(view.length(), accessor.offset(), stride, accessor.count(), size) {
+                let (count, offset, length) = (accessor.count(), accessor.offset(), view.length());
+                return fail(format!("runs past its {length}-byte buffer view ({count} elements from byte {offset})"));
+            }
+        }
+        if let Some(sparse) = accessor.sparse() {
+            let (indices, values) = (sparse.indices(), sparse.values());
+            let index_size = indices.index_type().size();
+            let [index_view, value_view] = [indices.view(), values.view()];
+            let index_stride = index_view.stride().unwrap_or(index_size);
+            let value_stride = value_view.stride().unwrap_or(size);
+            if !(fits(index_view.length(), indices.offset(), index_stride, sparse.count(), index_size)
+                && fits(value_view.length(), values.offset(), value_stride, sparse.count(), size))
+            {
+                return fail(format!(
+                    "has a sparse part of {} elements that does not fit its buffer views",
+                    sparse.count()
+                ));
+            }
+        }
+        Ok(true)
     }
 
     fn material(&mut self, material: &gltf::Material, index: usize) -> Result<usize, SceneError> {

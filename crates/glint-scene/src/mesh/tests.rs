@@ -278,3 +278,100 @@ fn mangled_files_never_panic() {
         }
     }
 }
+
+/// A `.gltf` with one mesh whose primitives are `primitives` (JSON), reading through
+/// `views` and `accessors` from one embedded 44-byte buffer: three corners of a unit
+/// right triangle (bytes 0..36), then the u16 indices 0, 1, 2 (36..42).
+fn embedded_gltf(primitives: &str, views: &str, accessors: &str) -> Vec<u8> {
+    let mut bin = Vec::new();
+    for p in [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]] {
+        p.iter().for_each(|x| bin.extend(x.to_le_bytes()));
+    }
+    [0u16, 1, 2, 0].iter().for_each(|i| bin.extend(i.to_le_bytes()));
+    let uri = format!("data:application/octet-stream;base64,{}", base64(&bin));
+    format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+"meshes":[{{"primitives":[{primitives}]}}],"buffers":[{{"byteLength":44,"uri":"{uri}"}}],
+"bufferViews":[{views}],"accessors":[{accessors}]}}"#
+    )
+    .into_bytes()
+}
+
+/// The triangle's corners (view 0, accessor 0) and indices (view 1, accessor 1).
+const CORNERS_VIEW: &str = r#"{"buffer":0,"byteLength":36}"#;
+const INDEX_VIEW: &str = r#"{"buffer":0,"byteOffset":36,"byteLength":6}"#;
+const EMPTY_VIEW: &str = r#"{"buffer":0,"byteOffset":36,"byteLength":0}"#;
+const CORNERS: &str = r#"{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}"#;
+
+/// A zero-length buffer view gives an empty primitive (skipped, with a warning) where its
+/// accessor has no elements, a clear error where it claims some, and never a panic (the
+/// `gltf` crate's readers underflow on an empty accessor).
+#[test]
+fn gltf_zero_length_buffer_views_give_an_empty_mesh_or_an_error() {
+    let dir = folder("gltf-empty");
+    let load = |name: &str, primitives: &str, views: String, accessors: String| {
+        load_mesh(&write(&dir, name, &embedded_gltf(primitives, &views, &accessors)))
+    };
+    let empty = |ty: u32, kind: &str| format!(r#"{{"bufferView":1,"componentType":{ty},"count":0,"type":"{kind}"}}"#);
+    let triangle = r#"{"attributes":{"POSITION":0}}"#;
+    let empty_corners = r#"{"bufferView":1,"componentType":5126,"count":0,"type":"VEC3","min":[0,0,0],"max":[0,0,0]}"#;
+
+    // No corners: nothing to render, said so; beside a real triangle, skipped.
+    let views = format!("{CORNERS_VIEW},{EMPTY_VIEW}");
+    let e =
+        load("corners.gltf", r#"{"attributes":{"POSITION":1}}"#, views.clone(), format!("{CORNERS},{empty_corners}"));
+    assert!(e.unwrap_err().message.contains("no triangles"));
+    let both = format!(r#"{triangle},{{"attributes":{{"POSITION":1}}}}"#);
+    let import = load("beside.gltf", &both, views.clone(), format!("{CORNERS},{empty_corners}")).unwrap();
+    assert_eq!((import.meshes.len(), import.meshes[0].indices.len()), (1, 3));
+    assert!(import.warnings.iter().any(|w| w.contains("empty primitive")), "{:?}", import.warnings);
+    // No indices: no triangles.
+    let indexed = r#"{"attributes":{"POSITION":0},"indices":1}"#;
+    let e = load("indices.gltf", indexed, views.clone(), format!("{CORNERS},{}", empty(5123, "SCALAR")));
+    assert!(e.unwrap_err().message.contains("no triangles"));
+    // No normals or uvs: the triangle without them.
+    for (name, attribute, accessor) in
+        [("normals", "NORMAL", empty(5126, "VEC3")), ("uvs", "TEXCOORD_0", empty(5126, "VEC2"))]
+    {
+        let primitive = format!(r#"{{"attributes":{{"POSITION":0,"{attribute}":1}}}}"#);
+        let import = load(&format!("{name}.gltf"), &primitive, views.clone(), format!("{CORNERS},{accessor}")).unwrap();
+        let mesh = &import.meshes[0];
+        assert_eq!((mesh.indices.len(), mesh.normals.len(), mesh.uvs.len()), (3, 0, 0), "{name}");
+    }
+    // Elements claimed in a view of no bytes: an error naming the accessor.
+    let claimed = r#"{"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}"#;
+    let e = load("claimed.gltf", indexed, views.clone(), format!("{CORNERS},{claimed}")).unwrap_err();
+    assert!(e.message.contains("indices accessor (1) runs past its 0-byte buffer view"), "{e}");
+    // From a native scene too: an error, not a panic.
+    let e = crate::parse_scene("mesh \"m\" { file \"corners.gltf\" }", "s.glint", &dir).unwrap_err();
+    assert!(e.to_string().contains("no triangles"), "{e}");
+    // The valid file the cases above were cut from loads.
+    let import = load("valid.gltf", indexed, format!("{CORNERS_VIEW},{INDEX_VIEW}"), format!("{CORNERS},{claimed}"));
+    assert_eq!(import.unwrap().meshes[0].indices, vec![0, 1, 2]);
+}
+
+/// Accessors the `gltf` crate's readers would panic on (a component type they do not
+/// expect, a stride shorter than an element, an empty sparse part) are refused, each
+/// with a message that names the accessor.
+#[test]
+fn gltf_accessors_the_readers_cannot_take_are_refused() {
+    let dir = folder("gltf-bad-accessor");
+    let indexed = r#"{"attributes":{"POSITION":0},"indices":1}"#;
+    let with_uvs = r#"{"attributes":{"POSITION":0,"TEXCOORD_0":1}}"#;
+    let views = format!("{CORNERS_VIEW},{INDEX_VIEW}");
+    let cases = [
+        ("uv-bytes", with_uvs, views.clone(), r#"{"bufferView":1,"componentType":5120,"count":3,"type":"VEC2"}"#.to_string(), "TEXCOORD_0 accessor (1) holds Vec2 of I8"),
+        ("float-indices", indexed, views.clone(), r#"{"bufferView":0,"componentType":5126,"count":3,"type":"SCALAR"}"#.to_string(), "indices accessor (1) holds Scalar of F32"),
+        ("short-corners", indexed, r#"{"buffer":0,"byteLength":36,"byteStride":4},{"buffer":0,"byteOffset":36,"byteLength":6}"#.to_string(), r#"{"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR"}"#.to_string(), "POSITION accessor (0) has 12-byte elements only 4 bytes apart"),
+        ("empty-sparse", indexed, views.clone(), r#"{"bufferView":1,"componentType":5123,"count":3,"type":"SCALAR","sparse":{"count":0,"indices":{"bufferView":1,"componentType":5123},"values":{"bufferView":1}}}"#.to_string(), "sparse part of 0 elements"),
+    ];
+    for (name, primitive, views, second, expected) in cases {
+        let bytes = embedded_gltf(primitive, &views, &format!("{CORNERS},{second}"));
+        let e = load_mesh(&write(&dir, &format!("{name}.gltf"), &bytes)).unwrap_err();
+        assert!(e.message.contains(expected), "{name}: {e}");
+    }
+    let u16_corners = r#"{"bufferView":0,"componentType":5123,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}"#;
+    let bytes = embedded_gltf(r#"{"attributes":{"POSITION":0}}"#, CORNERS_VIEW, u16_corners);
+    let e = load_mesh(&write(&dir, "u16-corners.gltf", &bytes)).unwrap_err();
+    assert!(e.message.contains("POSITION accessor (0) holds Vec3 of U16"), "{e}");
+}
