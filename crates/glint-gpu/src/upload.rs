@@ -136,10 +136,11 @@ impl GpuScene {
             if bytes.len() as u64 > limit {
                 return Err(GpuError::TooLarge { what, needed: bytes.len() as u64, limit });
             }
-            // Bindings cannot be empty: an unused array gets one zero word.
+            // Bindings cannot be empty, and must hold one whole record: an unused
+            // array gets zeros enough for the largest record.
             let padded;
             let contents = if bytes.is_empty() {
-                padded = vec![0u8; 256];
+                padded = vec![0u8; crate::records::ALL.iter().map(|r| r.size).max().unwrap_or(0).max(256)];
                 &padded[..]
             } else {
                 bytes

@@ -395,11 +395,9 @@ fn intersect_triangle(w: WatertightRay, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f
     }
     let sz = w.shear.z;
     let t_scaled = u * (sz * a.z) + v * (sz * b.z) + e * (sz * c.z);
-    if det > 0.0 {
-        if t_scaled <= 0.0 || t_scaled >= t_max * det {
-            return no_hit();
-        }
-    } else if t_scaled >= 0.0 || t_scaled <= t_max * det {
+    // In front where T and det share a sign; t_max bounds the divided t alone.
+    let in_front = (det > 0.0 && t_scaled > 0.0) || (det < 0.0 && t_scaled < 0.0);
+    if !in_front {
         return no_hit();
     }
     let inv_det = 1.0 / det;
@@ -424,18 +422,31 @@ struct SlabRay {
     inv: vec3<f32>,
     origin: vec3<f32>,
     near_plane: vec3<u32>,
+    // Axes the ray runs parallel to (a zero or vanishing component): the slab of such
+    // an axis holds the whole ray or none of it (the CPU gets this from 1/0 = ∞, which
+    // WGSL does not promise).
+    parallel: vec3<bool>,
 }
 
 fn slab_ray(r: Ray) -> SlabRay {
-    var d = r.dir;
-    for (var a = 0u; a < 3u; a += 1u) {
-        if abs(d[a]) < 1e-30 {
-            d[a] = select(1e-30, -1e-30, (bitcast<u32>(d[a]) & 0x80000000u) != 0u);
-        }
-    }
+    let parallel = abs(r.dir) < vec3<f32>(1e-30);
+    let d = select(r.dir, vec3<f32>(1.0), parallel);
     let inv = 1.0 / d;
     let near_plane = vec3<u32>(0u, 2u, 4u) + select(vec3<u32>(0u), vec3<u32>(1u), inv < vec3<f32>(0.0));
-    return SlabRay(inv, r.origin, near_plane);
+    return SlabRay(inv, r.origin, near_plane, parallel);
+}
+
+// Entry and exit distances of one lane's slab on `axis`.
+fn slab(s: SlabRay, node: u32, lane: u32, axis: u32) -> vec2<f32> {
+    let lo = nodes[node].bounds[(2u * axis) * 8u + lane];
+    let hi = nodes[node].bounds[(2u * axis + 1u) * 8u + lane];
+    if s.parallel[axis] {
+        let inside = s.origin[axis] >= lo && s.origin[axis] <= hi;
+        return select(vec2<f32>(INF, -INF), vec2<f32>(-INF, INF), inside);
+    }
+    let near = (nodes[node].bounds[s.near_plane[axis] * 8u + lane] - s.origin[axis]) * s.inv[axis];
+    let far = (nodes[node].bounds[(s.near_plane[axis] ^ 1u) * 8u + lane] - s.origin[axis]) * s.inv[axis];
+    return vec2<f32>(near, far);
 }
 
 struct NodeHits {
@@ -451,14 +462,11 @@ fn test_node(s: SlabRay, node: u32, t_max: f32) -> NodeHits {
     var hits: NodeHits;
     hits.count = 0u;
     for (var lane = 0u; lane < 8u; lane += 1u) {
-        let nx = (nodes[node].bounds[s.near_plane.x * 8u + lane] - s.origin.x) * s.inv.x;
-        let ny = (nodes[node].bounds[s.near_plane.y * 8u + lane] - s.origin.y) * s.inv.y;
-        let nz = (nodes[node].bounds[s.near_plane.z * 8u + lane] - s.origin.z) * s.inv.z;
-        let fx = (nodes[node].bounds[(s.near_plane.x ^ 1u) * 8u + lane] - s.origin.x) * s.inv.x;
-        let fy = (nodes[node].bounds[(s.near_plane.y ^ 1u) * 8u + lane] - s.origin.y) * s.inv.y;
-        let fz = (nodes[node].bounds[(s.near_plane.z ^ 1u) * 8u + lane] - s.origin.z) * s.inv.z;
-        let near = max(max(nx, ny), max(nz, 0.0));
-        let far = min(min(fx, fy), fz) * ROBUST_FAR;
+        let x = slab(s, node, lane, 0u);
+        let y = slab(s, node, lane, 1u);
+        let z = slab(s, node, lane, 2u);
+        let near = max(max(x.x, y.x), max(z.x, 0.0));
+        let far = min(min(x.y, y.y), z.y) * ROBUST_FAR;
         if near <= min(far, t_max) {
             // Insertion, nearest first.
             var j = hits.count;
