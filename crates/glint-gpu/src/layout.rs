@@ -214,12 +214,13 @@ mod tests {
 
     #[test]
     fn gaps_and_misaligned_fields_are_caught() {
-        let a = Field { name: "a", ty: Ty::U32, offset: 0 };
-        let gap = Record { name: "G", size: 80, fields: &[a, Field { name: "m", ty: Ty::Mat4, offset: 16 }] };
+        // Constants, so the field lists are promoted to the `'static` slices records hold.
+        const A: Field = Field { name: "a", ty: Ty::U32, offset: 0 };
+        let gap = Record { name: "G", size: 80, fields: &[A, Field { name: "m", ty: Ty::Mat4, offset: 16 }] };
         assert!(!gap.matches_rust(), "a field missing from the list must not pass as padding");
         let misaligned = Record { name: "M", size: 80, fields: &[Field { name: "m", ty: Ty::Mat4, offset: 4 }] };
         assert!(!misaligned.matches_rust());
-        let exact = Record { name: "E", size: 4, fields: &[a] };
+        let exact = Record { name: "E", size: 4, fields: &[A] };
         assert!(exact.matches_rust());
     }
 }
