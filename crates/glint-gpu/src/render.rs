@@ -6,6 +6,7 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use glam::Vec3;
+use glint_core::desc::IntegratorDesc;
 use glint_core::film::Image;
 use glint_core::scene::RenderScene;
 
@@ -43,7 +44,8 @@ impl<'g> Progressive<'g> {
         if film_bytes > limit {
             return Err(GpuError::TooLarge { what: "film", needed: film_bytes, limit });
         }
-        let capacity = (SAMPLES_PER_DISPATCH / pixels).min(limit / film_bytes).clamp(1, scene.settings.spp as u64) as u32;
+        let capacity =
+            (SAMPLES_PER_DISPATCH / pixels).min(limit / film_bytes).clamp(1, scene.settings.spp as u64) as u32;
         let storage = |label: &str, size: u64, usage: wgpu::BufferUsages| {
             gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -69,7 +71,11 @@ impl<'g> Progressive<'g> {
         let (trace, splat, bind_group) = gpu.checked("compiling the render kernels", || {
             let kernels = Kernels::new(gpu);
             let bind_group = kernels.bind(gpu, &gpu_scene, &params, &samples, &accum);
-            (kernels.pipeline(gpu, "trace_path"), kernels.pipeline(gpu, "splat"), bind_group)
+            let entry = match scene.settings.integrator {
+                IntegratorDesc::Path(_) => "trace_path",
+                IntegratorDesc::Whitted => "trace_whitted",
+            };
+            (kernels.pipeline(gpu, entry), kernels.pipeline(gpu, "splat"), bind_group)
         })?;
         Ok(Progressive { gpu, scene: gpu_scene, trace, splat, bind_group, params, accum, readback, capacity, done: 0 })
     }
@@ -190,6 +196,8 @@ impl Kernels {
             (binding::FLOATS, &b.floats),
             (binding::WORDS, &b.words),
             (binding::TEXTURES, &b.textures),
+            (binding::MATERIALS, &b.materials),
+            (binding::LIGHTS, &b.lights),
             (binding::SAMPLES, samples),
             (binding::ACCUM, accum),
         ];
@@ -321,7 +329,7 @@ fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
         count: None,
     };
     let mut entries = vec![entry(binding::PARAMS, wgpu::BufferBindingType::Uniform)];
-    for b in binding::INSTANCES..=binding::TEXTURES {
+    for b in binding::INSTANCES..=binding::LIGHTS {
         entries.push(entry(b, wgpu::BufferBindingType::Storage { read_only: true }));
     }
     for b in [binding::SAMPLES, binding::ACCUM] {

@@ -7,10 +7,11 @@ use wgpu::naga;
 fn the_render_program_parses_and_validates() {
     let source = glint_gpu::shader::source();
     let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&source)));
-    let mut validator = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all());
+    let mut validator =
+        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all());
     if let Err(e) = validator.validate(&module) {
         panic!("{}", e.emit_to_string(&source));
     }
     let entries: Vec<_> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
-    assert_eq!(entries, ["trace_path", "splat", "trace_rays"]);
+    assert_eq!(entries, ["trace_path", "trace_whitted", "splat", "trace_rays"]);
 }
