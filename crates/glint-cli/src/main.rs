@@ -209,7 +209,7 @@ struct RenderArgs {
     /// Where to render: `cpu` (every core), `gpu` (the most capable Vulkan, Metal or DX12
     /// adapter, a CPU driver such as lavapipe included) or `auto` (a hardware GPU when
     /// there is one and it can render the scene, else the CPU; the summary says which).
-    /// The GPU runs the path integrator; both give the same image within noise.
+    /// The GPU runs the Whitted and path integrators and gives the CPU's image within rounding.
     #[arg(long, value_enum, default_value_t = DeviceArg::Cpu)]
     device: DeviceArg,
     /// Worker threads; 0 or absent uses every core. The image is identical for any count.

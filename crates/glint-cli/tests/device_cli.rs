@@ -22,42 +22,45 @@ fn has_adapter() -> bool {
 }
 
 #[test]
-fn gpu_refuses_a_whitted_scene_in_one_sentence_and_writes_nothing() {
-    let out = temp("whitted.png");
-    let output = glint().args(["render", "--device", "gpu", "-q", "-o"]).arg(&out).output().unwrap();
+fn gpu_refuses_a_csg_scene_in_one_sentence_and_writes_nothing() {
+    let out = temp("csg.png");
+    let output =
+        glint().args(["render", "--device", "gpu", "-q", "-o"]).arg(&out).arg(scene("csg.glint")).output().unwrap();
     assert!(!output.status.success());
     let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(stderr.contains("cannot be rendered on the GPU yet: the Whitted integrator"), "{stderr}");
+    assert!(stderr.contains("cannot be rendered on the GPU yet: Csg shapes"), "{stderr}");
     assert!(!out.exists());
 }
 
 #[test]
-fn auto_renders_a_whitted_scene_on_the_cpu_and_says_so() {
+fn auto_renders_a_csg_scene_on_the_cpu_and_says_so() {
     let out = temp("auto.png");
     let output = glint()
         .args(["render", "--device", "auto", "--width", "16", "--height", "12", "-o"])
         .arg(&out)
+        .arg(scene("csg.glint"))
         .output()
         .unwrap();
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
     let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(stderr.contains("rendering on the CPU: the GPU backend does not render"), "{stderr}");
+    assert!(stderr.contains("rendering on the CPU: the GPU backend does not render Csg shapes yet"), "{stderr}");
     assert!(out.exists());
     let _ = std::fs::remove_file(out);
 }
 
-#[test]
-fn gpu_renders_a_path_traced_scene_like_the_cpu() {
+/// Renders `name` small on the CPU and on the GPU and asserts the 8-bit sRGB images
+/// agree within one step of rounding (the same samples give the same bytes).
+fn gpu_renders_like_the_cpu(name: &str) {
     if !has_adapter() {
         eprintln!("SKIPPED: no GPU adapter");
         return;
     }
     let render = |device: &str| {
-        let out = temp(&format!("{device}.ppm"));
+        let out = temp(&format!("{name}-{device}.ppm"));
         let output = glint()
             .args(["render", "--spp", "4", "--width", "20", "--height", "16", "--device", device, "-o"])
             .arg(&out)
-            .arg(scene("cornell-path.glint"))
+            .arg(scene(name))
             .output()
             .unwrap();
         let stderr = String::from_utf8_lossy(&output.stderr).to_string();
@@ -70,7 +73,16 @@ fn gpu_renders_a_path_traced_scene_like_the_cpu() {
     let (gpu, stderr) = render("gpu");
     assert!(stderr.contains("on the GPU"), "{stderr}");
     assert_eq!(cpu.len(), gpu.len());
-    // 8-bit sRGB: the same samples give the same bytes, give or take one step of rounding.
     let worst = cpu.iter().zip(&gpu).map(|(a, b)| a.abs_diff(*b)).max().unwrap();
-    assert!(worst <= 1, "largest difference {worst} steps");
+    assert!(worst <= 1, "{name}: largest difference {worst} steps");
+}
+
+#[test]
+fn gpu_renders_a_path_traced_scene_like_the_cpu() {
+    gpu_renders_like_the_cpu("cornell-path.glint");
+}
+
+#[test]
+fn gpu_renders_a_whitted_scene_like_the_cpu() {
+    gpu_renders_like_the_cpu("cornell-whitted.glint");
 }

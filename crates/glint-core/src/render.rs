@@ -112,8 +112,10 @@ fn render_tile(scene: &RenderScene, x0: u32, y0: u32) -> TileResult {
     let s = &scene.settings;
     let x1 = (x0 + TILE_SIZE).min(s.width);
     let y1 = (y0 + TILE_SIZE).min(s.height);
-    // The filter reaches this many pixels beyond the tile.
-    let halo = (s.filter.radius - 0.5).ceil().max(0.0) as u32;
+    // The filter reaches this many pixels beyond the tile: a sample lies in [0, 1]
+    // from its pixel's corner (the corners pattern puts some on the far edge, shared
+    // with the next pixel), so up to ⌊r + ½⌋ pixels on either side.
+    let halo = (s.filter.radius + 0.5).floor() as u32;
     let (fx0, fy0) = (x0.saturating_sub(halo), y0.saturating_sub(halo));
     let (fx1, fy1) = ((x1 + halo).min(s.width), (y1 + halo).min(s.height));
     let mut film = new_film(scene, fx0, fy0, fx1 - fx0, fy1 - fy0);

@@ -644,9 +644,12 @@ impl RenderScene {
             let ng = hit.geometric_normal;
             let side = if ng.dot(ray.dir) > 0.0 { ng } else { -ng };
             let origin = offset_ray_origin(hit.point, side);
-            // Keep the far end fixed: same direction, parameter measured from the new origin.
-            let end = ray.at(t_left);
-            t_left = (end - origin).dot(ray.dir) / ray.dir.length_squared();
+            // Keep the far end fixed: same direction, parameter measured from the new
+            // origin. An infinite segment (a directional light) stays infinite.
+            if t_left.is_finite() {
+                let end = ray.at(t_left);
+                t_left = (end - origin).dot(ray.dir) / ray.dir.length_squared();
+            }
             ray.origin = origin;
         }
         Vec3::ZERO

@@ -160,6 +160,44 @@ fn opaque_occluders_cast_shadows_and_transparent_ones_filter() {
 }
 
 #[test]
+fn every_transparent_occluder_filters_a_directional_light() {
+    let lit = MaterialDesc { diffuse: Vec3::ONE, ambient: Some(Vec3::ZERO), ..black() };
+    let mut desc = facing_plane(lit, vec![light_at(0.0)], Vec3::ZERO, Vec3::ZERO);
+    desc.materials.push(MaterialDesc { kt: 1.0, transmissive: Vec3::splat(0.5), ..black() });
+    for z in [1.0, 2.0] {
+        desc.objects.push(node(
+            ShapeDesc::Disk,
+            1,
+            vec![TransformOp::Rotate { axis: Vec3::X, degrees: 90.0 }, TransformOp::Translate(Vec3::new(0.0, 0.0, z))],
+        ));
+    }
+    // The light is infinitely far: past the first pane the shadow ray still runs to
+    // infinity and meets the second. Light filtered twice, seen through both panes.
+    assert_close(pixel(&desc), Vec3::splat(0.5f32.powi(4)));
+}
+
+#[test]
+fn corner_samples_reach_across_tile_borders() {
+    // A plane lit by a point light on the view axis: the image is mirror-symmetric in
+    // x. Tiles are 16 pixels wide, so the border between columns 15 and 16 of a 24-wide
+    // image mirrors the inside of the first tile (columns 8 and 7): a corner sample,
+    // shared by the pixels that meet there, must reach both sides of a border alike.
+    let lit = MaterialDesc { diffuse: Vec3::ONE, ambient: Some(Vec3::ZERO), ..black() };
+    let light = LightDesc::Point { position: Vec3::new(0.0, 0.0, 1.0), color: Vec3::ONE, attenuation: Vec3::X };
+    let mut desc = facing_plane(lit, vec![light], Vec3::ZERO, Vec3::ZERO);
+    desc.settings.width = 24;
+    desc.settings.height = 4;
+    desc.settings.pattern = glint_core::sampling::SamplePattern::CornersAndCentre;
+    let image = render_desc(&desc);
+    for y in 0..4 {
+        for x in 0..12 {
+            let (a, b) = (image.get(x, y), image.get(23 - x, y));
+            assert!((a - b).abs().max_element() < 1e-5 * (1.0 + a.max_element()), "({x}, {y}): {a} vs {b}");
+        }
+    }
+}
+
+#[test]
 fn textures_blend_into_the_diffuse_colour() {
     let mut desc = facing_plane(
         MaterialDesc {

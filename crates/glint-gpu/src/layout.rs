@@ -214,6 +214,7 @@ mod tests {
 
     #[test]
     fn gaps_and_misaligned_fields_are_caught() {
+        // Constants, so the field lists are promoted to the `'static` slices records hold.
         const A: Field = Field { name: "a", ty: Ty::U32, offset: 0 };
         let gap = Record { name: "G", size: 80, fields: &[A, Field { name: "m", ty: Ty::Mat4, offset: 16 }] };
         assert!(!gap.matches_rust(), "a field missing from the list must not pass as padding");

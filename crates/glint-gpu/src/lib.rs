@@ -4,8 +4,9 @@
 //!
 //! The scene is uploaded once from the same flat arrays the CPU renders
 //! ([`upload`]); every record the shaders read is declared once for Rust and WGSL
-//! ([`layout`], [`records`]); samples come from the same 32-bit path sampler as on the
-//! CPU, so both backends trace the same paths and their images can be compared pixel
+//! ([`layout`], [`records`]); samples come from the same 32-bit generators as on the
+//! CPU (the path sampler; the Whitted integrator's pixel patterns and per-sample random
+//! stream), so both backends trace the same rays and their images can be compared pixel
 //! by pixel.
 
 pub mod device;

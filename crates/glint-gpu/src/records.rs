@@ -8,6 +8,8 @@ use glam::Mat4;
 use glint_core::accel::WideNode;
 use glint_core::bsdf::Bsdf;
 use glint_core::emitter::Emitter;
+use glint_core::light::Light;
+use glint_core::material::Material;
 use glint_core::mesh::Triangle4;
 use glint_core::scene::{Instance, Motion};
 use glint_core::texture::Texture;
@@ -98,6 +100,36 @@ gpu_record!(pub MOTION = Motion as "Motion" {
     close_pad1: F32 => close._pad1,
 });
 
+gpu_record!(pub MATERIAL = Material as "Material" {
+    ambient: Vec3 => ambient,
+    diffuse: Vec3 => diffuse,
+    specular: Vec3 => specular,
+    reflective: Vec3 => reflective,
+    transmissive: Vec3 => transmissive,
+    kd: F32 => kd,
+    shininess: F32 => shininess,
+    ior: F32 => ior,
+    blend: F32 => blend,
+    texture: U32 => texture,
+    texture_repeat: Vec2 => texture_repeat,
+});
+
+// `kind` is a `#[repr(u32)]` enum: one word, read as the discriminant.
+gpu_record!(pub LIGHT = Light as "Light" {
+    kind: U32 => kind,
+    color: Vec3 => color,
+    position: Vec3 => position,
+    direction: Vec3 => direction,
+    attenuation: Vec3 => attenuation,
+    inner_angle: F32 => inner_angle,
+    outer_angle: F32 => outer_angle,
+    edge_u: Vec3 => edge_u,
+    edge_v: Vec3 => edge_v,
+    radius: F32 => radius,
+    samples_per_axis: U32 => samples_per_axis,
+    linear_falloff: U32 => linear_falloff,
+});
+
 /// Where one mesh's data starts in the concatenated arrays: its BVH nodes and triangle
 /// packets (whose indices stay mesh-relative), and its vertices, indices and optional
 /// attributes in the shared float and word arrays.
@@ -148,6 +180,7 @@ pub struct Params {
     pub seed: u32,
     /// 0 = Sobol, 1 = independent.
     pub sampler: u32,
+    /// Path: vertices per path at most; Whitted: the recursion depth at most.
     pub max_depth: u32,
     pub rr_depth: u32,
     pub bounded_count: u32,
@@ -174,10 +207,29 @@ pub struct Params {
     pub texel_offset: u32,
     /// Word-array index of the per-instance first emitter.
     pub instance_emitter_offset: u32,
+    /// [`INTEGRATOR_PATH`] or [`INTEGRATOR_WHITTED`].
+    pub integrator: u32,
+    /// Whitted: a reflected or transmitted ray whose weight in the pixel is at most
+    /// this is not traced.
+    pub min_contribution: f32,
+    /// Whitted: the [`FEATURE_SHADOWS`], … bits that are on.
+    pub features: u32,
+    /// Whitted: 1 when some material lets light through (shadow rays look past hits).
+    pub has_transmissive: u32,
+    /// Whitted: the pixel pattern, [`PATTERN_GRID`] to [`PATTERN_SOBOL`].
+    pub pattern: u32,
+    /// Whitted: samples along each axis of the grid-based patterns.
+    pub per_axis: u32,
+    /// Whitted: number of lights.
+    pub light_count: u32,
+    /// Whitted: the pixel pattern's seed (jittered and Sobol).
+    pub pattern_seed: u32,
+    pub reserved1: u32,
     /// 1 when some instance moves: each path then draws a time in the shutter.
     pub has_motion: u32,
-    pub reserved1: u32,
     pub background: [f32; 4],
+    /// Whitted: the ambient light `L_a`.
+    pub ambient: [f32; 4],
     pub env_scale: [f32; 4],
     pub eye: [f32; 4],
     pub right: [f32; 4],
@@ -187,6 +239,23 @@ pub struct Params {
     pub env_from_world: Mat4,
     pub world_from_env: Mat4,
 }
+
+/// [`Params::integrator`] values.
+pub const INTEGRATOR_PATH: u32 = 0;
+pub const INTEGRATOR_WHITTED: u32 = 1;
+
+/// [`Params::features`] bits, after `glint_core::desc::Features`.
+pub const FEATURE_SHADOWS: u32 = 1;
+pub const FEATURE_REFLECTIONS: u32 = 2;
+pub const FEATURE_REFRACTIONS: u32 = 4;
+pub const FEATURE_TEXTURES: u32 = 8;
+pub const FEATURE_TRANSPARENT_SHADOWS: u32 = 16;
+
+/// [`Params::pattern`] values, after `glint_core::sampling::SamplePattern`.
+pub const PATTERN_GRID: u32 = 0;
+pub const PATTERN_CORNERS: u32 = 1;
+pub const PATTERN_JITTERED: u32 = 2;
+pub const PATTERN_SOBOL: u32 = 3;
 
 gpu_record!(pub PARAMS = Params as "Params" {
     width: U32 => width,
@@ -215,9 +284,18 @@ gpu_record!(pub PARAMS = Params as "Params" {
     node_count: U32 => node_count,
     texel_offset: U32 => texel_offset,
     instance_emitter_offset: U32 => instance_emitter_offset,
-    has_motion: U32 => has_motion,
+    integrator: U32 => integrator,
+    min_contribution: F32 => min_contribution,
+    features: U32 => features,
+    has_transmissive: U32 => has_transmissive,
+    pattern: U32 => pattern,
+    per_axis: U32 => per_axis,
+    light_count: U32 => light_count,
+    pattern_seed: U32 => pattern_seed,
     reserved1: U32 => reserved1,
+    has_motion: U32 => has_motion,
     background: Vec4 => background,
+    ambient: Vec4 => ambient,
     env_scale: Vec4 => env_scale,
     eye: Vec4 => eye,
     right: Vec4 => right,
@@ -229,4 +307,5 @@ gpu_record!(pub PARAMS = Params as "Params" {
 });
 
 /// Every record, for the layout test and for generating the shader prelude.
-pub const ALL: [Record; 9] = [INSTANCE, WIDE_NODE, TRIANGLE4, BSDF, EMITTER, TEXTURE, MOTION, GPU_MESH, PARAMS];
+pub const ALL: [Record; 11] =
+    [INSTANCE, WIDE_NODE, TRIANGLE4, BSDF, EMITTER, TEXTURE, MOTION, MATERIAL, LIGHT, GPU_MESH, PARAMS];

@@ -6,6 +6,7 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use glam::Vec3;
+use glint_core::desc::IntegratorDesc;
 use glint_core::film::Image;
 use glint_core::scene::RenderScene;
 
@@ -70,7 +71,11 @@ impl<'g> Progressive<'g> {
         let (trace, splat, bind_group) = gpu.checked("compiling the render kernels", || {
             let kernels = Kernels::new(gpu);
             let bind_group = kernels.bind(gpu, &gpu_scene, &params, &samples, &accum);
-            (kernels.pipeline(gpu, "trace_path"), kernels.pipeline(gpu, "splat"), bind_group)
+            let entry = match scene.settings.integrator {
+                IntegratorDesc::Path(_) => "trace_path",
+                IntegratorDesc::Whitted => "trace_whitted",
+            };
+            (kernels.pipeline(gpu, entry), kernels.pipeline(gpu, "splat"), bind_group)
         })?;
         Ok(Progressive { gpu, scene: gpu_scene, trace, splat, bind_group, params, accum, readback, capacity, done: 0 })
     }
@@ -191,6 +196,8 @@ impl Kernels {
             (binding::FLOATS, &b.floats),
             (binding::WORDS, &b.words),
             (binding::TEXTURES, &b.textures),
+            (binding::MATERIALS, &b.materials),
+            (binding::LIGHTS, &b.lights),
             (binding::SAMPLES, samples),
             (binding::ACCUM, accum),
             (binding::MOTIONS, &b.motions),
@@ -323,7 +330,7 @@ fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
         count: None,
     };
     let mut entries = vec![entry(binding::PARAMS, wgpu::BufferBindingType::Uniform)];
-    for b in binding::INSTANCES..=binding::TEXTURES {
+    for b in binding::INSTANCES..=binding::LIGHTS {
         entries.push(entry(b, wgpu::BufferBindingType::Storage { read_only: true }));
     }
     for b in [binding::SAMPLES, binding::ACCUM] {

@@ -15,19 +15,22 @@ pub mod binding {
     pub const FLOATS: u32 = 7;
     pub const WORDS: u32 = 8;
     pub const TEXTURES: u32 = 9;
-    pub const SAMPLES: u32 = 10;
-    pub const ACCUM: u32 = 11;
-    pub const MOTIONS: u32 = 12;
+    pub const MATERIALS: u32 = 10;
+    pub const LIGHTS: u32 = 11;
+    pub const SAMPLES: u32 = 12;
+    pub const ACCUM: u32 = 13;
+    pub const MOTIONS: u32 = 14;
     /// Storage buffers (everything but the parameters).
-    pub const STORAGE_COUNT: u32 = 12;
+    pub const STORAGE_COUNT: u32 = 14;
 }
 
-const MODULES: [&str; 7] = [
+const MODULES: [&str; 8] = [
     include_str!("shaders/common.wgsl"),
     include_str!("shaders/geometry.wgsl"),
     include_str!("shaders/bsdf.wgsl"),
     include_str!("shaders/emitter.wgsl"),
     include_str!("shaders/path.wgsl"),
+    include_str!("shaders/whitted.wgsl"),
     include_str!("shaders/film.wgsl"),
     include_str!("shaders/rays.wgsl"),
 ];
@@ -52,9 +55,37 @@ pub fn bindings() -> String {
     out += &storage(WORDS, "words", "array<u32>");
     out += &storage(TEXTURES, "textures", "array<Texture>");
     out += &storage(MOTIONS, "motions", "array<Motion>");
+    out += &storage(MATERIALS, "materials", "array<Material>");
+    out += &storage(LIGHTS, "lights", "array<Light>");
     out += &format!("@group(0) @binding({SAMPLES}) var<storage, read_write> samples: array<vec4<f32>>;\n");
     out += &format!("@group(0) @binding({ACCUM}) var<storage, read_write> accum: array<vec4<f32>>;\n");
     out
+}
+
+/// The constants the shaders compare record fields with, from their Rust definitions.
+pub fn constants() -> String {
+    use glint_core::light::LightKind;
+    let values = [
+        ("INTEGRATOR_PATH", records::INTEGRATOR_PATH),
+        ("INTEGRATOR_WHITTED", records::INTEGRATOR_WHITTED),
+        ("FEATURE_SHADOWS", records::FEATURE_SHADOWS),
+        ("FEATURE_REFLECTIONS", records::FEATURE_REFLECTIONS),
+        ("FEATURE_REFRACTIONS", records::FEATURE_REFRACTIONS),
+        ("FEATURE_TEXTURES", records::FEATURE_TEXTURES),
+        ("FEATURE_TRANSPARENT_SHADOWS", records::FEATURE_TRANSPARENT_SHADOWS),
+        ("PATTERN_GRID", records::PATTERN_GRID),
+        ("PATTERN_CORNERS", records::PATTERN_CORNERS),
+        ("PATTERN_JITTERED", records::PATTERN_JITTERED),
+        ("PATTERN_SOBOL", records::PATTERN_SOBOL),
+        ("LIGHT_POINT", LightKind::Point as u32),
+        ("LIGHT_DIRECTIONAL", LightKind::Directional as u32),
+        ("LIGHT_SPOT", LightKind::Spot as u32),
+        ("LIGHT_RECTANGLE", LightKind::Rectangle as u32),
+        ("LIGHT_DISK", LightKind::Disk as u32),
+        ("LIGHT_SPHERE", LightKind::Sphere as u32),
+        ("NO_TEXTURE", glint_core::material::NO_TEXTURE),
+    ];
+    values.iter().map(|(name, value)| format!("const {name}: u32 = {value}u;\n")).collect()
 }
 
 /// The whole program the render kernels are compiled from.
@@ -62,6 +93,8 @@ pub fn source() -> String {
     let mut out = structs();
     out += "\n";
     out += &bindings();
+    out += "\n";
+    out += &constants();
     for module in MODULES {
         out += "\n";
         out += module;

@@ -5,13 +5,14 @@
 
 use bytemuck::NoUninit;
 use glam::{Mat3, Mat4, Vec3};
-use glint_core::desc::{IntegratorDesc, SamplerKind};
+use glint_core::desc::{Features, IntegratorDesc, SamplerKind};
+use glint_core::sampling::SamplePattern;
 use glint_core::scene::RenderScene;
 use glint_core::shape::ShapeKind;
 use wgpu::util::DeviceExt;
 
 use crate::device::{Gpu, GpuError};
-use crate::records::{GpuMesh, NONE, Params};
+use crate::records::{self, GpuMesh, NONE, Params};
 
 /// The scene's buffers on the device, and the parameters every pass starts from.
 pub struct GpuScene {
@@ -30,14 +31,13 @@ pub(crate) struct SceneBuffers {
     pub words: wgpu::Buffer,
     pub textures: wgpu::Buffer,
     pub motions: wgpu::Buffer,
+    pub materials: wgpu::Buffer,
+    pub lights: wgpu::Buffer,
 }
 
 /// What the GPU backend cannot render yet, as a sentence; `None` when it can.
 pub fn unsupported(scene: &RenderScene) -> Option<String> {
     let s = &scene.settings;
-    if !matches!(s.integrator, IntegratorDesc::Path(_)) {
-        return Some("the Whitted integrator runs on the CPU only (choose --integrator path for the GPU)".into());
-    }
     if s.adaptive.is_some() {
         return Some("adaptive sampling".into());
     }
@@ -162,9 +162,21 @@ impl GpuScene {
             words: buffer("triangle indices", bytemuck::cast_slice(&a.words))?,
             textures: buffer("textures", records_bytes(&scene.textures))?,
             motions: buffer("motions", records_bytes(&scene.motions))?,
+            materials: buffer("Whitted materials", records_bytes(&scene.materials))?,
+            lights: buffer("lights", records_bytes(&scene.lights))?,
         };
         Ok(GpuScene { buffers, params })
     }
+}
+
+/// The Whitted feature switches as [`Params::features`] bits.
+fn features(f: Features) -> u32 {
+    let bit = |on: bool, bit: u32| if on { bit } else { 0 };
+    bit(f.shadows, records::FEATURE_SHADOWS)
+        | bit(f.reflections, records::FEATURE_REFLECTIONS)
+        | bit(f.refractions, records::FEATURE_REFRACTIONS)
+        | bit(f.textures, records::FEATURE_TEXTURES)
+        | bit(f.transparent_shadows, records::FEATURE_TRANSPARENT_SHADOWS)
 }
 
 fn records_bytes<T: NoUninit>(records: &[T]) -> &[u8] {
@@ -183,9 +195,9 @@ fn mat4(m: Mat3) -> Mat4 {
 /// into the float array on the way.
 fn params(scene: &RenderScene, a: &mut Arrays, texel_offset: u32, instance_emitter_offset: u32) -> Params {
     let s = &scene.settings;
-    let path = match s.integrator {
-        IntegratorDesc::Path(p) => p,
-        IntegratorDesc::Whitted => Default::default(),
+    let (integrator, path, max_depth) = match s.integrator {
+        IntegratorDesc::Path(p) => (records::INTEGRATOR_PATH, p, p.max_depth),
+        IntegratorDesc::Whitted => (records::INTEGRATOR_WHITTED, Default::default(), s.max_depth),
     };
     let (emitter_count, light_cdf_offset) = match &scene.light_selection {
         Some(selection) => (selection.len() as u32, a.push_floats(selection.cdf().iter().copied())),
@@ -198,7 +210,7 @@ fn params(scene: &RenderScene, a: &mut Arrays, texel_offset: u32, instance_emitt
         pass_samples: 0,
         seed: s.seed,
         sampler: (path.sampler == SamplerKind::Independent) as u32,
-        max_depth: path.max_depth,
+        max_depth,
         rr_depth: path.rr_depth,
         bounded_count: scene.bounded_count as u32,
         instance_count: scene.instances.len() as u32,
@@ -218,9 +230,23 @@ fn params(scene: &RenderScene, a: &mut Arrays, texel_offset: u32, instance_emitt
         node_count: scene.bvh.nodes.len() as u32,
         texel_offset,
         instance_emitter_offset,
-        has_motion: (!scene.motions.is_empty()) as u32,
+        integrator,
+        min_contribution: s.min_contribution,
+        features: features(s.features),
+        has_transmissive: scene.has_transmissive as u32,
+        pattern: match s.sampler.pattern {
+            SamplePattern::Grid => records::PATTERN_GRID,
+            SamplePattern::CornersAndCentre => records::PATTERN_CORNERS,
+            SamplePattern::Jittered => records::PATTERN_JITTERED,
+            SamplePattern::Sobol => records::PATTERN_SOBOL,
+        },
+        per_axis: s.sampler.per_axis,
+        light_count: scene.lights.len() as u32,
+        pattern_seed: s.sampler.seed,
         reserved1: 0,
+        has_motion: (!scene.motions.is_empty()) as u32,
         background: vec4(s.background),
+        ambient: vec4(s.ambient_light),
         env_scale: [0.0; 4],
         eye: vec4(scene.camera.eye),
         right: vec4(scene.camera.right),

@@ -3,7 +3,7 @@
 use glam::Vec2;
 use serde::{Deserialize, Serialize};
 
-use super::rng::hash;
+use super::sequence::{hash32, unit_float};
 
 /// The sampling strategies of the lecture and of production renderers.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -55,26 +55,17 @@ impl PixelSampler {
             }
             SamplePattern::Jittered => {
                 let i = index % (n * n);
-                let h = hash(&[px, py, index / (n * n), self.seed]);
-                let jitter = Vec2::new(unit(hash(&[h, i, 0])), unit(hash(&[h, i, 1])));
+                let h = hash32(&[px, py, index / (n * n), self.seed]);
+                let jitter = Vec2::new(unit_float(hash32(&[h, i, 0])), unit_float(hash32(&[h, i, 1])));
                 (Vec2::new((i % n) as f32, (i / n) as f32) + jitter) / n as f32
             }
             SamplePattern::Sobol => {
                 let (x, y) = sobol_2d(index);
-                let seed = hash(&[px, py, self.seed]);
-                Vec2::new(to_unit(owen_scramble(x, seed)), to_unit(owen_scramble(y, seed ^ 0x9e37_79b9)))
+                let seed = hash32(&[px, py, self.seed]);
+                Vec2::new(unit_float(owen_scramble(x, seed)), unit_float(owen_scramble(y, seed ^ 0x9e37_79b9)))
             }
         }
     }
-}
-
-fn unit(bits: u32) -> f32 {
-    (bits >> 8) as f32 * (1.0 / (1u32 << 24) as f32)
-}
-
-fn to_unit(bits: u32) -> f32 {
-    // Top 24 bits → [0, 1) exactly representable in f32.
-    unit(bits)
 }
 
 /// The first two Sobol dimensions as 32-bit fixed-point fractions: dimension 0 is the

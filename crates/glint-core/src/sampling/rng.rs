@@ -2,59 +2,45 @@
 //!
 //! Every stream is derived from (pixel, sample index, seed) by hashing, never from a
 //! shared generator, so a pixel's samples do not depend on which thread renders it or
-//! in what order: the image is a pure function of the scene and the seed.
+//! in what order: the image is a pure function of the scene and the seed. Everything
+//! is 32-bit integer arithmetic, so a GPU shader draws exactly the same numbers.
 
-/// Mixes any number of words into one well-distributed 32-bit value: each word is
-/// folded into a 64-bit state by the SplitMix64 finalizer (Steele et al. 2014), whose
-/// every output bit depends on every input bit.
+use super::sequence::{hash32, mix32, unit_float};
+
+/// Mixes any number of words into one well-distributed 32-bit value
+/// ([`hash32`]: each word folded in by two rounds of [`mix32`]).
+#[inline]
 pub fn hash(words: &[u32]) -> u32 {
-    let mut state: u64 = 0x9e37_79b9_7f4a_7c15;
-    for &w in words {
-        state = splitmix64(state ^ (w as u64).wrapping_add(0x9e37_79b9_7f4a_7c15));
-    }
-    (state >> 32) as u32
+    hash32(words)
 }
 
-fn splitmix64(mut z: u64) -> u64 {
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
-}
-
-fn permute(state: u64) -> u32 {
-    let xorshifted = (((state >> 18) ^ state) >> 27) as u32;
-    let rot = (state >> 59) as u32;
-    xorshifted.rotate_right(rot)
-}
-
-/// A small PCG32 generator for the few extra numbers one sample needs (light samples,
-/// lens positions); seed it from [`hash`] of the sample's identity.
+/// A small 32-bit PCG generator (O'Neill 2014, "PCG-RXS-M-XS-32": a 32-bit LCG
+/// whose state is output through a random xorshift, a multiply and a fixed xorshift)
+/// for the few extra numbers one sample needs (light samples, lens positions); seed it
+/// from [`hash`] of the sample's identity.
 #[derive(Clone, Debug)]
 pub struct Rng {
-    state: u64,
+    state: u32,
 }
 
 impl Rng {
-    const MULTIPLIER: u64 = 6_364_136_223_846_793_005;
-    const INCREMENT: u64 = 1_442_695_040_888_963_407;
+    const MULTIPLIER: u32 = 747_796_405;
+    const INCREMENT: u32 = 2_891_336_453;
 
     pub fn new(seed: u32) -> Self {
-        let mut rng = Self { state: 0 };
-        rng.next_u32();
-        rng.state = rng.state.wrapping_add(seed as u64);
-        rng.next_u32();
-        rng
+        Self { state: mix32(seed) }
     }
 
     pub fn next_u32(&mut self) -> u32 {
-        let old = self.state;
-        self.state = old.wrapping_mul(Self::MULTIPLIER).wrapping_add(Self::INCREMENT);
-        permute(old)
+        self.state = self.state.wrapping_mul(Self::MULTIPLIER).wrapping_add(Self::INCREMENT);
+        let s = self.state;
+        let word = ((s >> ((s >> 28) + 4)) ^ s).wrapping_mul(277_803_737);
+        (word >> 22) ^ word
     }
 
-    /// Uniform in [0, 1).
+    /// Uniform in [0, 1): the top 24 bits, every value exactly representable.
     pub fn next_f32(&mut self) -> f32 {
-        (self.next_u32() >> 8) as f32 * (1.0 / (1u32 << 24) as f32)
+        unit_float(self.next_u32())
     }
 }
 
@@ -70,6 +56,27 @@ mod tests {
         assert!(values.iter().all(|&v| (0.0..1.0).contains(&v)));
         let mean = values.iter().sum::<f32>() / n as f32;
         assert!((mean - 0.5).abs() < 0.01, "{mean}");
+    }
+
+    #[test]
+    fn the_generator_visits_every_state_once_per_period() {
+        // A full-period LCG over 2^32 states: its outputs are a permutation of the
+        // states, so 2^16 consecutive draws repeat no more than chance allows.
+        let mut rng = Rng::new(1);
+        let mut seen = std::collections::HashSet::new();
+        let repeats = (0..1 << 16).filter(|_| !seen.insert(rng.next_u32())).count();
+        // Birthday bound for 2^16 draws from 2^32: about 0.5 expected.
+        assert!(repeats <= 4, "{repeats}");
+    }
+
+    #[test]
+    fn neighbouring_seeds_give_unrelated_streams() {
+        let first: Vec<u32> = (0..64).map(|s| Rng::new(s).next_u32()).collect();
+        let distinct = first.iter().collect::<std::collections::HashSet<_>>().len();
+        assert_eq!(distinct, 64);
+        // The low bits of consecutive seeds' first draws are balanced.
+        let odd = first.iter().filter(|&&x| x & 1 == 1).count();
+        assert!((20..=44).contains(&odd), "{odd}");
     }
 
     #[test]

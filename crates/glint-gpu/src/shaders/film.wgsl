@@ -50,8 +50,12 @@ fn filter_eval(dx: f32, dy: f32) -> f32 {
     return filter_1d(dx) * filter_1d(dy) * params.filter_scale * params.filter_scale;
 }
 
-// Where sample `index` of pixel (px, py) landed on the film.
+// Where sample `index` of pixel (px, py) landed on the film: the Whitted integrator's
+// pixel pattern, or the path sampler's first two numbers.
 fn film_position(px: u32, py: u32, index: u32) -> vec2<f32> {
+    if params.integrator == INTEGRATOR_WHITTED {
+        return vec2<f32>(f32(px), f32(py)) + pixel_offset(px, py, index);
+    }
     var sampler = path_sampler(params.sampler == 0u, px, py, index, params.seed);
     return vec2<f32>(f32(px), f32(py)) + next_2d(&sampler);
 }

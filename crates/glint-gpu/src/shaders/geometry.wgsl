@@ -709,6 +709,8 @@ struct Hit {
     point: vec3<f32>,
     normal: vec3<f32>,
     geometric_normal: vec3<f32>,
+    // Where shadow rays leaving the outside start: `point`, lifted on smooth meshes.
+    shadow_point: vec3<f32>,
     uv: vec2<f32>,
     material: u32,
     instance: u32,
@@ -723,6 +725,28 @@ fn normal_to_world(x: Xform, n: vec3<f32>) -> vec3<f32> {
 
 fn mesh_vertex(mesh: GpuMesh, i: u32) -> vec3<f32> {
     return float3(mesh.position_offset + 3u * i);
+}
+
+// glint_core::mesh::terminator_point (Hanika 2021): p lifted onto each vertex's
+// tangent plane it lies below, the lifts blended by the barycentrics.
+fn terminator_point(
+    p: vec3<f32>,
+    bary: vec3<f32>,
+    a: vec3<f32>,
+    b: vec3<f32>,
+    c: vec3<f32>,
+    n0: vec3<f32>,
+    n1: vec3<f32>,
+    n2: vec3<f32>,
+) -> vec3<f32> {
+    let v = array<vec3<f32>, 3>(a, b, c);
+    let normals = array<vec3<f32>, 3>(n0, n1, n2);
+    var out = p;
+    for (var k = 0u; k < 3u; k += 1u) {
+        let n = normalize_or(normals[k], vec3<f32>(0.0));
+        out += bary[k] * max(-dot(p - v[k], n), 0.0) * n;
+    }
+    return out;
 }
 
 fn hit_from(r: Ray, found: SceneHit) -> Hit {
@@ -742,6 +766,7 @@ fn hit_from(r: Ray, found: SceneHit) -> Hit {
         hit.point = (to_world * vec4<f32>(s.point, 1.0)).xyz;
         hit.normal = n;
         hit.geometric_normal = n;
+        hit.shadow_point = hit.point;
         hit.uv = s.uv;
         return hit;
     }
@@ -757,6 +782,7 @@ fn hit_from(r: Ray, found: SceneHit) -> Hit {
     var geometric = cross(b - a, c - a);
     let point = bary.x * a + bary.y * b + bary.z * c;
     var normal = geometric;
+    var shadow_point = point;
     if mesh.normal_offset != NO_INDEX {
         let n0 = float3(mesh.normal_offset + 3u * i0);
         let n1 = float3(mesh.normal_offset + 3u * i1);
@@ -767,6 +793,7 @@ fn hit_from(r: Ray, found: SceneHit) -> Hit {
             if dot(n, geometric) < 0.0 {
                 geometric = -geometric;
             }
+            shadow_point = terminator_point(point, bary, a, b, c, n0, n1, n2);
         }
     }
     var uv = vec2<f32>(bary.y, bary.z);
@@ -780,6 +807,7 @@ fn hit_from(r: Ray, found: SceneHit) -> Hit {
     hit.point = (to_world * vec4<f32>(point, 1.0)).xyz;
     hit.normal = n;
     hit.geometric_normal = normalize_or(normal_to_world(xform, geometric), n);
+    hit.shadow_point = (to_world * vec4<f32>(shadow_point, 1.0)).xyz;
     hit.uv = uv;
     return hit;
 }

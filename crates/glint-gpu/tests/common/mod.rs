@@ -30,6 +30,14 @@ pub fn scene(source: &str, width: u32, height: u32, spp: u32) -> RenderScene {
     compile(&desc).expect("scene compiles")
 }
 
+/// A native scene from source at the given size, its samples as the source sets them.
+pub fn scene_as_written(source: &str, width: u32, height: u32) -> RenderScene {
+    let mut desc = glint_scene::parse_scene(source, "test.glint", Path::new(".")).expect("scene parses");
+    desc.settings.width = width;
+    desc.settings.height = height;
+    compile(&desc).expect("scene compiles")
+}
+
 /// A scene file of the repository.
 pub fn scene_file(name: &str, width: u32, height: u32, spp: u32) -> RenderScene {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes").join(name);
@@ -71,4 +79,27 @@ pub fn agreement(a: &Image, b: &Image) -> Agreement {
     }
     let mean = |i: &Image| i.pixels.iter().map(|p| p.element_sum()).sum::<f32>() / (3 * i.pixels.len()) as f32;
     Agreement { max_abs, differing: differing as f32 / a.pixels.len() as f32, means: (mean(a), mean(b)) }
+}
+
+/// Renders `scene` on both backends and asserts they agree: means within 0.5%, at most
+/// 2% of pixels differing by more than `1e-3·(1 + value)`. Prints a table row
+/// (`--nocapture` shows them): name, size, spp, largest difference, share differing,
+/// means.
+pub fn check(name: &str, scene: &RenderScene, gpu: &Gpu) {
+    let cpu = render_cpu(scene);
+    let gpu_image = render_gpu(gpu, scene);
+    let a = agreement(&cpu, &gpu_image);
+    eprintln!(
+        "| {name} | {}x{} | {} | {:.2e} | {:.2}% | {:.5} | {:.5} |",
+        scene.settings.width,
+        scene.settings.height,
+        scene.settings.spp,
+        a.max_abs,
+        100.0 * a.differing,
+        a.means.0,
+        a.means.1
+    );
+    assert!(a.means.0 > 0.0, "{name}: the CPU image is black");
+    assert!((a.means.0 - a.means.1).abs() <= 0.005 * a.means.0, "{name}: means {:?}", a.means);
+    assert!(a.differing <= 0.02, "{name}: {:.2}% of pixels differ", 100.0 * a.differing);
 }

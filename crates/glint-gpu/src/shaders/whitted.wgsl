@@ -1,0 +1,405 @@
+// The Whitted integrator (glint_core::integrator::whitted): ambient, every light's
+// shadow-tested Phong terms, and the reflected and transmitted rays, recursively. The
+// recursion is a loop over an explicit stack visited depth first in the CPU's order,
+// so the sample's random stream (glint_core::sampling::Rng) is drawn in the same order:
+// the lens, then each light's jitter at each hit.
+
+// The LIGHT_*, FEATURE_*, PATTERN_* and INTEGRATOR_* constants and NO_TEXTURE come
+// from Rust (crate::shader::constants).
+
+fn feature(bit: u32) -> bool {
+    return (params.features & bit) != 0u;
+}
+
+fn positive_infinity() -> f32 {
+    return bitcast<f32>(0x7f800000u);
+}
+
+// ---- glint_core::sampling::rng ----
+
+fn hash4(a: u32, b: u32, c: u32, d: u32) -> u32 {
+    return hash_step(hash3(a, b, c), d);
+}
+
+// PCG-RXS-M-XS-32: the state of a 32-bit LCG, output through a random xorshift, a
+// multiply and a fixed xorshift.
+fn rng_new(seed: u32) -> u32 {
+    return mix32(seed);
+}
+
+fn rng_next_u32(state: ptr<function, u32>) -> u32 {
+    *state = *state * 747796405u + 2891336453u;
+    let s = *state;
+    let word = ((s >> ((s >> 28u) + 4u)) ^ s) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+fn rng_next_f32(state: ptr<function, u32>) -> f32 {
+    return unit_float(rng_next_u32(state));
+}
+
+// ---- glint_core::sampling::pattern ----
+
+// PixelSampler::offset: sample `index` of pixel (px, py) as an offset in [0, 1]² from
+// the pixel's top-left corner.
+fn pixel_offset(px: u32, py: u32, index: u32) -> vec2<f32> {
+    let n = max(params.per_axis, 1u);
+    switch params.pattern {
+        case PATTERN_GRID: {
+            let i = index % (n * n);
+            return vec2<f32>(f32(i % n) + 0.5, f32(i / n) + 0.5) / f32(n);
+        }
+        case PATTERN_CORNERS: {
+            let corners = array<vec2<f32>, 5>(
+                vec2<f32>(0.5, 0.5),
+                vec2<f32>(0.0, 0.0),
+                vec2<f32>(1.0, 0.0),
+                vec2<f32>(0.0, 1.0),
+                vec2<f32>(1.0, 1.0),
+            );
+            return corners[index % 5u];
+        }
+        case PATTERN_JITTERED: {
+            let i = index % (n * n);
+            let h = hash4(px, py, index / (n * n), params.pattern_seed);
+            let jitter = vec2<f32>(unit_float(hash3(h, i, 0u)), unit_float(hash3(h, i, 1u)));
+            return (vec2<f32>(f32(i % n), f32(i / n)) + jitter) / f32(n);
+        }
+        default: {
+            // PATTERN_SOBOL, Owen-scrambled: owen_scramble(x, s) = reverse(laine_karras(reverse(x), s)),
+            // and the reversed dimensions are the index itself and sobol_y_reversed.
+            let seed = hash3(px, py, params.pattern_seed);
+            let x = reverseBits(laine_karras(index, seed));
+            let y = reverseBits(laine_karras(sobol_y_reversed(index), seed ^ 0x9e3779b9u));
+            return vec2<f32>(unit_float(x), unit_float(y));
+        }
+    }
+}
+
+// ---- glint_core::light ----
+
+struct Incidence {
+    // Unit vector toward the light, the lecture's l.
+    to_light: vec3<f32>,
+    // INF (the largest float, which no hit reaches) for directional lights.
+    distance: f32,
+    // f_att · L, with a spot light's cone falloff and an area sample's share.
+    radiance: vec3<f32>,
+}
+
+// Point, directional and spot lights: one sample, no jitter used.
+fn is_single(l: Light) -> bool {
+    return l.kind == LIGHT_POINT || l.kind == LIGHT_DIRECTIONAL || l.kind == LIGHT_SPOT;
+}
+
+fn light_sample_count(l: Light) -> u32 {
+    if is_single(l) {
+        return 1u;
+    }
+    return l.samples_per_axis * l.samples_per_axis;
+}
+
+// f_att = min(1, 1/(c1 + c2·d + c3·d²)).
+fn f_att(l: Light, d: f32) -> f32 {
+    let c = v3(l.attenuation);
+    return min(1.0 / (c.x + c.y * d + c.z * d * d), 1.0);
+}
+
+// 1 inside the inner cone, 0 outside the outer one, the smooth cubic (or a linear
+// fade) across the penumbra.
+fn light_spot_falloff(l: Light, from_light: vec3<f32>) -> f32 {
+    let angle = acos(clamp(dot(from_light, v3(l.direction)), -1.0, 1.0));
+    if angle <= l.inner_angle {
+        return 1.0;
+    }
+    if angle >= l.outer_angle {
+        return 0.0;
+    }
+    let x = (angle - l.inner_angle) / (l.outer_angle - l.inner_angle);
+    if l.linear_falloff != 0u {
+        return 1.0 - x;
+    }
+    return 1.0 - x * x * (3.0 - 2.0 * x);
+}
+
+// Light::incidence: the point, directional and spot lights.
+fn light_incidence(l: Light, p: vec3<f32>) -> Incidence {
+    if l.kind == LIGHT_DIRECTIONAL {
+        return Incidence(-v3(l.direction), INF, v3(l.color));
+    }
+    let offset = v3(l.position) - p;
+    let distance = length(offset);
+    let to_light = offset / distance;
+    var cone = 1.0;
+    if l.kind == LIGHT_SPOT {
+        cone = light_spot_falloff(l, -to_light);
+    }
+    return Incidence(to_light, distance, f_att(l, distance) * cone * v3(l.color));
+}
+
+// light.rs disk_point: the point of the disk of `radius` facing `normal` at u in
+// [0, 1)², by Shirley and Chiu's concentric mapping.
+fn disk_point(normal: vec3<f32>, radius: f32, u: vec2<f32>) -> vec3<f32> {
+    let tb = orthonormal_pair(normalize_or(normal, vec3<f32>(0.0, 1.0, 0.0)));
+    let d = 2.0 * u - vec2<f32>(1.0);
+    if d.x == 0.0 && d.y == 0.0 {
+        return vec3<f32>(0.0);
+    }
+    var r: f32;
+    var theta: f32;
+    if abs(d.x) > abs(d.y) {
+        r = d.x;
+        theta = (PI / 4.0) * (d.y / d.x);
+    } else {
+        r = d.y;
+        theta = PI / 2.0 - (PI / 4.0) * (d.x / d.y);
+    }
+    return radius * r * (cos(theta) * tb[0] + sin(theta) * tb[1]);
+}
+
+// Light::sample: sample `index` of light_sample_count, jittered inside its stratum;
+// an area light's intensity is shared equally by its samples.
+fn light_sample(l: Light, p: vec3<f32>, index: u32, jitter: vec2<f32>) -> Incidence {
+    if is_single(l) {
+        return light_incidence(l, p);
+    }
+    let n = l.samples_per_axis;
+    let u = (vec2<f32>(f32(index % n), f32(index / n)) + jitter) / f32(n);
+    var point: vec3<f32>;
+    if l.kind == LIGHT_RECTANGLE {
+        point = v3(l.position) + u.x * v3(l.edge_u) + u.y * v3(l.edge_v);
+    } else if l.kind == LIGHT_DISK {
+        point = v3(l.position) + disk_point(v3(l.direction), l.radius, u);
+    } else {
+        // LIGHT_SPHERE: the disk the sphere presents to p.
+        point = v3(l.position) + disk_point(p - v3(l.position), l.radius, u);
+    }
+    let offset = point - p;
+    let distance = length(offset);
+    let share = 1.0 / f32(light_sample_count(l));
+    return Incidence(offset / distance, distance, share * f_att(l, distance) * v3(l.color));
+}
+
+// ---- shadows (glint_core::scene::RenderScene::transmittance) ----
+
+// The fraction of light crossing the segment 0 < t < t_max: zero if an opaque surface
+// blocks it, else the product of k_t·O_t of every surface crossed.
+fn transmittance(shadow_ray: Ray, t_max: f32) -> vec3<f32> {
+    if params.has_transmissive == 0u {
+        return select(vec3<f32>(1.0), vec3<f32>(0.0), occluded(shadow_ray, t_max));
+    }
+    var shadow_filter = vec3<f32>(1.0);
+    var r = shadow_ray;
+    var t_left = t_max;
+    for (var crossing = 0u; crossing < 64u; crossing += 1u) {
+        let found = trace_scene(r, t_left, false);
+        if !found.found {
+            return shadow_filter;
+        }
+        let hit = hit_from(r, found);
+        shadow_filter *= v3(materials[hit.material].transmissive);
+        if max3(shadow_filter) <= 0.0 {
+            return vec3<f32>(0.0);
+        }
+        let ng = hit.geometric_normal;
+        let side = select(-ng, ng, dot(ng, r.dir) > 0.0);
+        let origin = offset_ray_origin(hit.point, side);
+        // Keep the far end fixed; an infinite segment (a directional light) stays so.
+        if t_left < INF {
+            let end = ray_at(r, t_left);
+            t_left = dot(end - origin, r.dir) / dot(r.dir, r.dir);
+        }
+        r.origin = origin;
+    }
+    return vec3<f32>(0.0);
+}
+
+// ---- shading ----
+
+// Mirror direction of d about the unit normal n: d − 2(d·n)n.
+fn reflect_dir(d: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+    return d - 2.0 * dot(d, n) * n;
+}
+
+struct Refraction {
+    found: bool,
+    dir: vec3<f32>,
+}
+
+// Snell's law for unit d arriving against unit n, eta = η₁/η₂; none past the critical
+// angle (total internal reflection).
+fn refract_dir(d: vec3<f32>, n: vec3<f32>, eta: f32) -> Refraction {
+    let cos_i = -dot(d, n);
+    let sin2_t = eta * eta * max(1.0 - cos_i * cos_i, 0.0);
+    if sin2_t > 1.0 {
+        return Refraction(false, vec3<f32>(0.0));
+    }
+    let cos_t = sqrt(1.0 - sin2_t);
+    return Refraction(true, eta * d + (eta * cos_i - cos_t) * n);
+}
+
+// Rust's powf for x ≥ 0: x⁰ = 1 (WGSL's pow leaves 0⁰ undefined) and 0^y = 0 for y > 0.
+fn pow_nonnegative(x: f32, y: f32) -> f32 {
+    if y == 0.0 {
+        return 1.0;
+    }
+    if x == 0.0 {
+        return select(0.0, positive_infinity(), y < 0.0);
+    }
+    return pow(x, y);
+}
+
+// whitted::direct_lighting: ambient plus every unshadowed light's diffuse and specular
+// terms. `n` faces the viewer and `v` points to it; each light sample draws its jitter.
+fn direct_lighting(hit: Hit, m: Material, n: vec3<f32>, v: vec3<f32>, time: f32, rng: ptr<function, u32>) -> vec3<f32> {
+    var diffuse = v3(m.diffuse);
+    if feature(FEATURE_TEXTURES) && m.texture != NO_TEXTURE {
+        let texel = texture_sample(m.texture, hit.uv * v2(m.texture_repeat));
+        diffuse = (1.0 - m.blend) * diffuse + m.blend * m.kd * texel;
+    }
+    let specular = v3(m.specular);
+    var color = params.ambient.xyz * v3(m.ambient);
+    // Seen from outside, a smooth mesh's shadow rays start on the surface its normals
+    // describe (Hanika 2021).
+    let outside = dot(hit.geometric_normal, n) >= 0.0;
+    let ng = select(-hit.geometric_normal, hit.geometric_normal, outside);
+    let shadow_origin = offset_ray_origin(select(hit.point, hit.shadow_point, outside), ng);
+    for (var li = 0u; li < params.light_count; li += 1u) {
+        let l = lights[li];
+        let count = light_sample_count(l);
+        for (var index = 0u; index < count; index += 1u) {
+            let jx = rng_next_f32(rng);
+            let jy = rng_next_f32(rng);
+            let incidence = light_sample(l, hit.point, index, vec2<f32>(jx, jy));
+            let n_dot_l = dot(n, incidence.to_light);
+            if n_dot_l <= 0.0 || all(incidence.radiance == vec3<f32>(0.0)) {
+                continue;
+            }
+            var shadow_filter = vec3<f32>(1.0);
+            if feature(FEATURE_SHADOWS) {
+                let shadow_ray = Ray(shadow_origin, incidence.to_light, time);
+                if feature(FEATURE_TRANSPARENT_SHADOWS) {
+                    shadow_filter = transmittance(shadow_ray, incidence.distance);
+                } else if occluded(shadow_ray, incidence.distance) {
+                    shadow_filter = vec3<f32>(0.0);
+                }
+            }
+            if all(shadow_filter == vec3<f32>(0.0)) {
+                continue;
+            }
+            let r = reflect_dir(-incidence.to_light, n);
+            var highlight = 0.0;
+            if any(specular != vec3<f32>(0.0)) {
+                highlight = pow_nonnegative(max(dot(r, v), 0.0), m.shininess);
+            }
+            color += shadow_filter * incidence.radiance * (diffuse * n_dot_l + specular * highlight);
+        }
+    }
+    return color;
+}
+
+// A ray still to shade: its depth in the ray tree and the product of the k·O factors
+// that lead to it from the pixel.
+struct Pending {
+    origin: vec3<f32>,
+    dir: vec3<f32>,
+    depth: u32,
+    weight: vec3<f32>,
+}
+
+// One pending ray per level waits while its sibling's subtree is shaded, plus the two
+// children just pushed: max_depth (≤ 64) + 1 entries at most.
+const WHITTED_STACK: u32 = 66u;
+
+// whitted::radiance of a camera ray. Every hit adds weight × (its direct lighting),
+// every miss weight × background: the recursive sum, expanded.
+fn whitted_radiance(camera: Ray, rng: ptr<function, u32>) -> vec3<f32> {
+    var stack: array<Pending, WHITTED_STACK>;
+    stack[0] = Pending(camera.origin, camera.dir, 0u, vec3<f32>(1.0));
+    var top = 1u;
+    var color = vec3<f32>(0.0);
+    while top > 0u {
+        top -= 1u;
+        let e = stack[top];
+        let r = Ray(e.origin, e.dir, camera.time);
+        let found = trace_scene(r, INF, false);
+        if !found.found {
+            var background = params.background.xyz;
+            if params.environment_kind != ENV_NONE {
+                background = env_radiance(r.dir);
+            }
+            color += e.weight * background;
+            continue;
+        }
+        let hit = hit_from(r, found);
+        let m = materials[hit.material];
+        let d = normalize(r.dir);
+        // Shade the side the ray arrived on: n faces the viewer; the true surface (ng)
+        // decides the side and carries the ray offsets.
+        let entering = dot(hit.geometric_normal, d) < 0.0;
+        let n = select(-hit.normal, hit.normal, entering);
+        let ng = select(-hit.geometric_normal, hit.geometric_normal, entering);
+        color += e.weight * direct_lighting(hit, m, n, -d, camera.time, rng);
+        if e.depth >= params.max_depth {
+            continue;
+        }
+        let reflected_dir = reflect_dir(d, n);
+        let reflect_weight = e.weight * v3(m.reflective);
+        let transmit_weight = e.weight * v3(m.transmissive);
+        // Push the transmitted ray first so that the reflected subtree is shaded (and
+        // draws its numbers) first, as the CPU recursion does.
+        if feature(FEATURE_REFRACTIONS) && max3(transmit_weight) > params.min_contribution && top < WHITTED_STACK {
+            var eta = m.ior;
+            if entering {
+                eta = 1.0 / m.ior;
+            }
+            var t = Refraction(true, d);
+            if m.ior != 1.0 {
+                t = refract_dir(d, n, eta);
+            }
+            if t.found {
+                stack[top] = Pending(offset_ray_origin(hit.point, -ng), t.dir, e.depth + 1u, transmit_weight);
+            } else {
+                // Total internal reflection: the transmitted share is reflected instead.
+                stack[top] = Pending(offset_ray_origin(hit.point, ng), reflected_dir, e.depth + 1u, transmit_weight);
+            }
+            top += 1u;
+        }
+        if feature(FEATURE_REFLECTIONS) && max3(reflect_weight) > params.min_contribution && top < WHITTED_STACK {
+            stack[top] = Pending(offset_ray_origin(hit.point, ng), reflected_dir, e.depth + 1u, reflect_weight);
+            top += 1u;
+        }
+    }
+    return color;
+}
+
+// One Whitted sample of pixel (px, py), index `index` (render.rs camera_sample): the
+// film position from the pixel pattern, then a stream seeded by hash(px, py, index,
+// seed) whose first two numbers place the ray on the lens.
+fn whitted_sample(px: u32, py: u32, index: u32) -> vec3<f32> {
+    let offset = pixel_offset(px, py, index);
+    var rng = rng_new(hash4(px, py, index, params.seed));
+    let lx = rng_next_f32(&rng);
+    let ly = rng_next_f32(&rng);
+    let fx = f32(px) + offset.x;
+    let fy = f32(py) + offset.y;
+    var r = camera_ray(2.0 * fx / f32(params.width) - 1.0, 1.0 - 2.0 * fy / f32(params.height), vec2<f32>(lx, ly));
+    if params.has_motion != 0u {
+        // A moment in the shutter interval, drawn after the lens as the CPU draws it.
+        r.time = rng_next_f32(&rng);
+    }
+    let value = whitted_radiance(r, &rng);
+    if !finite3(value) {
+        return vec3<f32>(0.0);
+    }
+    return value;
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn trace_whitted(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= params.width || id.y >= params.height {
+        return;
+    }
+    let value = whitted_sample(id.x, id.y, params.sample_offset + id.z);
+    samples[(id.z * params.height + id.y) * params.width + id.x] = vec4<f32>(value, 0.0);
+}
