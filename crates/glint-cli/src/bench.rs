@@ -274,40 +274,32 @@ pub fn best_of_3<T>(clock: impl Fn(Instant) -> f64, mut f: impl FnMut() -> T) ->
 
 /// CPU time of this thread; wall time since `wall` where unknown.
 pub fn thread_cpu_seconds(wall: Instant) -> f64 {
-    const CLOCK_THREAD_CPUTIME_ID: i32 = 3;
-    cpu_clock(CLOCK_THREAD_CPUTIME_ID).unwrap_or_else(|| wall.elapsed().as_secs_f64())
+    #[cfg(target_os = "linux")]
+    let clock = cpu_clock(libc::CLOCK_THREAD_CPUTIME_ID);
+    #[cfg(not(target_os = "linux"))]
+    let clock = None;
+    clock.unwrap_or_else(|| wall.elapsed().as_secs_f64())
 }
 
 /// CPU time of the whole process, every thread; wall time since `wall` where unknown.
 pub fn process_cpu_seconds(wall: Instant) -> f64 {
-    const CLOCK_PROCESS_CPUTIME_ID: i32 = 2;
-    cpu_clock(CLOCK_PROCESS_CPUTIME_ID).unwrap_or_else(|| wall.elapsed().as_secs_f64())
+    #[cfg(target_os = "linux")]
+    let clock = cpu_clock(libc::CLOCK_PROCESS_CPUTIME_ID);
+    #[cfg(not(target_os = "linux"))]
+    let clock = None;
+    clock.unwrap_or_else(|| wall.elapsed().as_secs_f64())
 }
 
 /// Linux's `clock_gettime` on a CPU-time clock, in seconds: exact to the nanosecond,
 /// where `/proc`'s counters advance only at scheduler ticks.
-fn cpu_clock(clock: i32) -> Option<f64> {
-    // The timespec below is two 64-bit fields: 64-bit Linux only.
-    #[cfg(all(target_os = "linux", target_pointer_width = "64"))]
-    {
-        #[repr(C)]
-        struct Timespec {
-            sec: i64,
-            nsec: i64,
-        }
-        unsafe extern "C" {
-            fn clock_gettime(clock: i32, out: *mut Timespec) -> i32;
-        }
-        let mut t = Timespec { sec: 0, nsec: 0 };
-        // SAFETY: clock_gettime writes one timespec (two 64-bit fields on 64-bit Linux) to `t`.
-        let ok = unsafe { clock_gettime(clock, &mut t) } == 0;
-        return ok.then_some(t.sec as f64 + t.nsec as f64 * 1e-9);
-    }
-    #[allow(unreachable_code)]
-    {
-        let _ = clock;
-        None
-    }
+#[cfg(target_os = "linux")]
+fn cpu_clock(clock: libc::clockid_t) -> Option<f64> {
+    // SAFETY: a timespec is plain integers (and, on some targets, padding), so all
+    // zeros is a valid one.
+    let mut t: libc::timespec = unsafe { std::mem::zeroed() };
+    // SAFETY: clock_gettime writes one timespec to `t`, which outlives the call.
+    let ok = unsafe { libc::clock_gettime(clock, &mut t) } == 0;
+    ok.then_some(t.tv_sec as f64 + t.tv_nsec as f64 * 1e-9)
 }
 
 /// The process's resident set in bytes (Linux's `/proc/self/statm`, second field, in
@@ -324,11 +316,8 @@ fn resident_bytes() -> usize {
 fn release_free_heap() {
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     {
-        unsafe extern "C" {
-            fn malloc_trim(pad: usize) -> i32;
-        }
         // SAFETY: glibc's malloc_trim takes a byte count and only touches the allocator's own state.
-        unsafe { malloc_trim(0) };
+        unsafe { libc::malloc_trim(0) };
     }
 }
 
