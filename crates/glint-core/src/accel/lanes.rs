@@ -76,6 +76,21 @@ impl F32x8 for Portable {
 #[cfg(target_arch = "x86_64")]
 pub(crate) use avx::{Avx2, has_avx2};
 
+/// The body of a query with an AVX2 twin: returns `$avx2` (a call of a
+/// `#[target_feature(enable = "avx2")]` function) where the CPU has AVX2, and
+/// `$portable` elsewhere. Detection is cached by `std`, so the check costs a load.
+macro_rules! on_avx2_or {
+    ($avx2:expr, $portable:expr) => {{
+        #[cfg(target_arch = "x86_64")]
+        if $crate::accel::lanes::has_avx2() {
+            // SAFETY: this CPU has AVX2, the one target feature `$avx2` needs.
+            return unsafe { $avx2 };
+        }
+        $portable
+    }};
+}
+pub(crate) use on_avx2_or;
+
 /// For tests that compare the AVX2 lanes with the portable ones: whether this CPU runs
 /// AVX2. Where it does not, the comparison cannot run (the dispatched path *is* the
 /// portable one), so the test says once on stderr that it skipped it rather than pass

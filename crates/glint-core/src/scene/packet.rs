@@ -18,12 +18,10 @@ impl RenderScene {
     /// when the rays are coherent. Which of two surfaces at exactly the same distance
     /// is reported may differ, as it may between any two traversal orders.
     pub fn intersect_packet(&self, rays: &[Ray], hits: &mut [Option<Hit>]) {
-        #[cfg(target_arch = "x86_64")]
-        if crate::accel::lanes::has_avx2() {
-            // SAFETY: this CPU has AVX2.
-            return unsafe { self.intersect_packet_avx2(rays, hits) };
-        }
-        self.intersect_packet_on::<Portable>(rays, hits);
+        crate::accel::lanes::on_avx2_or!(
+            self.intersect_packet_avx2(rays, hits),
+            self.intersect_packet_on::<Portable>(rays, hits)
+        )
     }
 
     #[cfg(target_arch = "x86_64")]
