@@ -5,7 +5,7 @@
 //! integrators read. It is plain serde data so that a scene can also be built from code
 //! (or Python) and mean exactly what the same scene written as a file means.
 
-use glam::{Vec2, Vec3};
+use glam::{Mat4, Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
 mod physical;
@@ -388,6 +388,40 @@ pub enum TransformOp {
     },
     /// A general affine matrix, rows first; its last row must be (0, 0, 0, 1).
     Matrix([[f32; 4]; 4]),
+}
+
+impl TransformOp {
+    /// This operation's matrix `Mᵢ` (acting on column vectors).
+    pub fn matrix(&self) -> Mat4 {
+        match *self {
+            TransformOp::Translate(t) => Mat4::from_translation(t),
+            TransformOp::Scale(s) => Mat4::from_scale(s),
+            TransformOp::Rotate { axis, degrees } => Mat4::from_axis_angle(axis.normalize(), degrees.to_radians()),
+            TransformOp::Matrix(rows) => Mat4::from_cols_array_2d(&rows).transpose(),
+        }
+    }
+}
+
+/// The matrix of a list of operations, the first acting on the object first:
+/// `M = Mₙ ⋯ M₁`. No checks: compile builds its `Transform` (with an exact inverse, and
+/// an error for a singular or non-finite op) op by op instead.
+pub fn matrix_of(ops: &[TransformOp]) -> Mat4 {
+    ops.iter().fold(Mat4::IDENTITY, |m, op| op.matrix() * m)
+}
+
+#[cfg(test)]
+mod transform_tests {
+    use super::*;
+
+    #[test]
+    fn matrix_of_applies_the_first_op_first() {
+        let ops = [TransformOp::Scale(Vec3::splat(2.0)), TransformOp::Translate(Vec3::X)];
+        let p = matrix_of(&ops).transform_point3(Vec3::ONE);
+        assert!((p - Vec3::new(3.0, 2.0, 2.0)).length() < 1e-6);
+        let rows = [[1.0, 0.0, 0.0, 5.0], [0.0, 1.0, 0.0, 6.0], [0.0, 0.0, 1.0, 7.0], [0.0, 0.0, 0.0, 1.0]];
+        let p = matrix_of(&[TransformOp::Matrix(rows)]).transform_point3(Vec3::ZERO);
+        assert_eq!(p, Vec3::new(5.0, 6.0, 7.0));
+    }
 }
 
 /// The canonical object-space primitives; size and placement come from transforms.

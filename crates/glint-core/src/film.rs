@@ -186,7 +186,8 @@ pub fn linear_to_srgb(c: f32) -> f32 {
     if c <= 0.003_130_8 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 }
 }
 
-/// The inverse of [`linear_to_srgb`], for reading 8-bit textures.
+/// The sRGB electro-optical transfer function, the inverse of [`linear_to_srgb`]: an
+/// encoded value in [0, 1] → linear light (for reading 8-bit textures and images).
 pub fn srgb_to_linear(c: f32) -> f32 {
     if c <= 0.040_45 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
 }

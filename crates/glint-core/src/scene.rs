@@ -513,12 +513,7 @@ fn instance_bounds(inst: &Instance, meshes: &[Mesh], tables: &ShapeTables, motio
 impl RenderScene {
     /// The closest hit with `0 < t < t_max`.
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        #[cfg(target_arch = "x86_64")]
-        if crate::accel::lanes::has_avx2() {
-            // SAFETY: this CPU has AVX2.
-            return unsafe { self.intersect_avx2(ray, t_max) };
-        }
-        self.intersect_on::<Portable>(ray, t_max)
+        crate::accel::lanes::on_avx2_or!(self.intersect_avx2(ray, t_max), self.intersect_on::<Portable>(ray, t_max))
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -591,12 +586,7 @@ impl RenderScene {
 
     /// Whether anything blocks the segment `0 < t < t_max`; stops at the first hit.
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        #[cfg(target_arch = "x86_64")]
-        if crate::accel::lanes::has_avx2() {
-            // SAFETY: this CPU has AVX2.
-            return unsafe { self.occluded_avx2(ray, t_max) };
-        }
-        self.occluded_on::<Portable>(ray, t_max)
+        crate::accel::lanes::on_avx2_or!(self.occluded_avx2(ray, t_max), self.occluded_on::<Portable>(ray, t_max))
     }
 
     #[cfg(target_arch = "x86_64")]

@@ -3,7 +3,7 @@
 
 use std::sync::atomic::AtomicBool;
 
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 use glint_core::desc::*;
 use glint_core::film::Image;
 use glint_core::render::render;
@@ -44,18 +44,6 @@ fn node(index: usize, transform: Vec<TransformOp>) -> NodeDesc {
         kind: NodeKind::Shape { shape: ShapeDesc::Mesh { index }, material: 0 },
         origin: String::new(),
     }
-}
-
-fn matrix_of(ops: &[TransformOp]) -> Mat4 {
-    ops.iter().fold(Mat4::IDENTITY, |m, op| {
-        let t = match *op {
-            TransformOp::Translate(v) => Mat4::from_translation(v),
-            TransformOp::Scale(s) => Mat4::from_scale(s),
-            TransformOp::Rotate { axis, degrees } => Mat4::from_axis_angle(axis.normalize(), degrees.to_radians()),
-            TransformOp::Matrix(rows) => Mat4::from_cols_array_2d(&rows).transpose(),
-        };
-        t * m
-    })
 }
 
 #[test]

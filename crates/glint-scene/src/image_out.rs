@@ -7,6 +7,7 @@ use std::fs;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
+use crate::atomic_file::write_atomically;
 use glint_core::film::{Image, Transfer};
 use image::{ImageBuffer, ImageFormat, Rgb};
 
@@ -48,13 +49,11 @@ pub enum WriteError {
 /// Encodes `image` as `format` and atomically places it at `path`. `transfer` encodes
 /// the 8/16-bit formats; EXR always stores the computed values as they are.
 pub fn write_image(image: &Image, path: &Path, format: OutputFormat, transfer: Transfer) -> Result<(), WriteError> {
-    let tmp = temp_sibling(path);
-    let result = encode(image, &tmp, format, transfer)
-        .and_then(|()| fs::rename(&tmp, path).map_err(|source| WriteError::Io { path: path.to_owned(), source }));
-    if result.is_err() {
-        let _ = fs::remove_file(&tmp);
-    }
-    result
+    write_atomically(
+        path,
+        |tmp| encode(image, tmp, format, transfer),
+        |source| WriteError::Io { path: path.to_owned(), source },
+    )
 }
 
 /// Writes a multi-layer OpenEXR file (32-bit float): the first image as the plain
@@ -63,7 +62,6 @@ pub fn write_image(image: &Image, path: &Path, format: OutputFormat, transfer: T
 /// channels in order. Atomic like [`write_image`].
 pub fn write_exr_layers(path: &Path, beauty: &Image, layers: &[(&str, &[&str], &Image)]) -> Result<(), WriteError> {
     use exr::prelude::{AnyChannel, AnyChannels, FlatSamples, WritableImage};
-    let tmp = temp_sibling(path);
     let channel = |name: String, image: &Image, k: usize| {
         AnyChannel::new(name.as_str(), FlatSamples::F32(image.pixels.iter().map(|p| p[k]).collect()))
     };
@@ -78,20 +76,16 @@ pub fn write_exr_layers(path: &Path, beauty: &Image, layers: &[(&str, &[&str], &
     }
     let size = (beauty.width as usize, beauty.height as usize);
     let image = exr::prelude::Image::from_channels(size, AnyChannels::sort(channels));
-    let result = image
-        .write()
-        .to_file(&tmp)
-        .map_err(|e| WriteError::Io { path: tmp.clone(), source: std::io::Error::other(e.to_string()) })
-        .and_then(|()| fs::rename(&tmp, path).map_err(|source| WriteError::Io { path: path.to_owned(), source }));
-    if result.is_err() {
-        let _ = fs::remove_file(&tmp);
-    }
-    result
-}
-
-fn temp_sibling(path: &Path) -> PathBuf {
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    path.with_file_name(format!(".{name}.{}.tmp", std::process::id()))
+    write_atomically(
+        path,
+        |tmp| {
+            image
+                .write()
+                .to_file(tmp)
+                .map_err(|e| WriteError::Io { path: tmp.to_owned(), source: std::io::Error::other(e.to_string()) })
+        },
+        |source| WriteError::Io { path: path.to_owned(), source },
+    )
 }
 
 fn encode(image: &Image, tmp: &Path, format: OutputFormat, transfer: Transfer) -> Result<(), WriteError> {

@@ -79,10 +79,7 @@ pub enum TextureError {
     },
 }
 
-/// The sRGB electro-optical transfer function: an encoded value in [0, 1] → linear light.
-pub fn srgb_to_linear(encoded: f32) -> f32 {
-    if encoded <= 0.04045 { encoded / 12.92 } else { ((encoded + 0.055) / 1.055).powf(2.4) }
-}
+pub use glint_core::film::srgb_to_linear;
 
 /// Loads a PNG or JPEG file (sRGB-decoded) or an OpenEXR or Radiance HDR file (linear,
 /// values above 1 kept: environment maps) as a linear-RGB texture named `name`, row 0

@@ -1,5 +1,6 @@
-//! Small golden images: the default scene and the examples rendered at low resolution
-//! and compared with committed references within a tolerance.
+//! A small golden image: the default scene rendered at low resolution and compared with
+//! a committed reference within a tolerance. (The example scenes under `scenes/` have no
+//! golden images; `native_files.rs` checks only that each one loads.)
 //!
 //! After an intended change of the picture, regenerate with
 //! `GLINT_BLESS=1 cargo test -p glint-scene --test golden` and look at the new images.

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use glam::{Mat4, Vec2, Vec3};
 use glint_core::desc::{
     BsdfDesc, FilterKind, IntegratorDesc, LightDesc, NodeKind, PathDesc, SamplerKind, SceneDesc, ShapeDesc,
-    TextureDesc, TransformOp,
+    TextureDesc, TransformOp, matrix_of,
 };
 use glint_scene::mitsuba::parse_mitsuba;
 use glint_scene::{SceneError, SceneFormat, load_any};
@@ -38,18 +38,6 @@ fn assert_error(body: &str, line: u32, fragment: &str) -> SceneError {
     e
 }
 
-fn matrix(ops: &[TransformOp]) -> Mat4 {
-    ops.iter().fold(Mat4::IDENTITY, |m, op| {
-        let o = match *op {
-            TransformOp::Translate(t) => Mat4::from_translation(t),
-            TransformOp::Scale(s) => Mat4::from_scale(s),
-            TransformOp::Rotate { axis, degrees } => Mat4::from_axis_angle(axis.normalize(), degrees.to_radians()),
-            TransformOp::Matrix(rows) => Mat4::from_cols_array_2d(&rows).transpose(),
-        };
-        o * m
-    })
-}
-
 #[track_caller]
 fn close(a: Vec3, b: Vec3) {
     assert!(a.abs_diff_eq(b, 1e-4), "{a} ≠ {b}");
@@ -57,7 +45,7 @@ fn close(a: Vec3, b: Vec3) {
 
 fn shape_of(s: &SceneDesc, i: usize) -> (ShapeDesc, usize, Mat4) {
     match &s.objects[i].kind {
-        NodeKind::Shape { shape, material } => (*shape, *material, matrix(&s.objects[i].transform)),
+        NodeKind::Shape { shape, material } => (*shape, *material, matrix_of(&s.objects[i].transform)),
         other => panic!("{other:?}"),
     }
 }

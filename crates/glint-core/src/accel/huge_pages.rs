@@ -32,14 +32,10 @@ pub fn on_huge_pages<T: Copy>(values: Vec<T>) -> Vec<T> {
 
 #[cfg(target_os = "linux")]
 fn advise_huge(address: usize, len: usize) {
-    unsafe extern "C" {
-        fn madvise(address: *mut std::ffi::c_void, len: usize, advice: i32) -> i32;
-    }
-    const MADV_HUGEPAGE: i32 = 14;
     // SAFETY: the range lies inside an allocation this function's caller owns and has
     // not written yet; MADV_HUGEPAGE changes how it is backed, never its contents. A
     // failure (a kernel without THP) leaves ordinary pages, which is fine.
-    unsafe { madvise(address as *mut std::ffi::c_void, len, MADV_HUGEPAGE) };
+    unsafe { libc::madvise(address as *mut libc::c_void, len, libc::MADV_HUGEPAGE) };
 }
 
 #[cfg(not(target_os = "linux"))]

@@ -382,7 +382,7 @@ mod tests {
                     collect(&|v| wide.traverse_with::<Portable, ()>(order, &[], &ray, &mut { f32::INFINITY }, v));
                 assert_eq!(brute, portable);
                 #[cfg(target_arch = "x86_64")]
-                if super::super::lanes::has_avx2() {
+                if super::super::lanes::avx2_or_skip("wide::visits_exactly_the_boxes_the_ray_enters") {
                     #[target_feature(enable = "avx2")]
                     fn avx(w: &WideBvh, o: Order, r: &Ray, v: &mut Visit) {
                         w.traverse_with::<super::super::lanes::Avx2, ()>(o, &[], r, &mut { f32::INFINITY }, v);
@@ -413,7 +413,7 @@ mod tests {
             });
             counts.push(n);
             #[cfg(target_arch = "x86_64")]
-            if super::super::lanes::has_avx2() {
+            if super::super::lanes::avx2_or_skip("wide::rays_in_a_face_plane_enter_the_box") {
                 #[target_feature(enable = "avx2")]
                 fn avx(w: &WideBvh, o: Order, r: &Ray, v: &mut Visit) {
                     w.traverse_with::<super::super::lanes::Avx2, ()>(o, &[], r, &mut { f32::INFINITY }, v);

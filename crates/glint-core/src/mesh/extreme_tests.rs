@@ -106,7 +106,7 @@ fn every_path(mesh: &Mesh, rays: &[Ray], t_max: f32) -> Vec<(&'static str, Found
         ),
     ];
     #[cfg(target_arch = "x86_64")]
-    if crate::accel::lanes::has_avx2() {
+    if crate::accel::lanes::avx2_or_skip("mesh::extreme_tests (AVX2 against portable)") {
         // SAFETY (each block): AVX2 was detected just above.
         paths.push((
             "AVX2 single",

@@ -212,22 +212,12 @@ impl Mesh {
 
     /// The closest hit in `(0, t_max)`; `part` is the triangle index.
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<ShapeHit> {
-        #[cfg(target_arch = "x86_64")]
-        if crate::accel::lanes::has_avx2() {
-            // SAFETY: this CPU has AVX2.
-            return unsafe { self.intersect_avx2(ray, t_max) };
-        }
-        self.intersect_on::<Portable>(ray, t_max)
+        crate::accel::lanes::on_avx2_or!(self.intersect_avx2(ray, t_max), self.intersect_on::<Portable>(ray, t_max))
     }
 
     /// Whether any triangle is hit in `(0, t_max)`; stops at the first.
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        #[cfg(target_arch = "x86_64")]
-        if crate::accel::lanes::has_avx2() {
-            // SAFETY: this CPU has AVX2.
-            return unsafe { self.occluded_avx2(ray, t_max) };
-        }
-        self.occluded_on::<Portable>(ray, t_max)
+        crate::accel::lanes::on_avx2_or!(self.occluded_avx2(ray, t_max), self.occluded_on::<Portable>(ray, t_max))
     }
 
     /// [`Mesh::intersect`] for up to [`PACKET`] coherent rays (neighbouring camera
@@ -243,23 +233,19 @@ impl Mesh {
         t_max: &mut [f32; PACKET],
         hits: &mut [Option<ShapeHit>; PACKET],
     ) {
-        #[cfg(target_arch = "x86_64")]
-        if crate::accel::lanes::has_avx2() {
-            // SAFETY: this CPU has AVX2.
-            return unsafe { self.intersect_packet_avx2(rays, active, t_max, hits) };
-        }
-        self.intersect_packet_on::<Portable>(rays, active, t_max, hits);
+        crate::accel::lanes::on_avx2_or!(
+            self.intersect_packet_avx2(rays, active, t_max, hits),
+            self.intersect_packet_on::<Portable>(rays, active, t_max, hits)
+        )
     }
 
     /// [`Mesh::occluded`] for up to [`PACKET`] coherent rays: bit `i` of the result is
     /// set where `rays[i]` is blocked.
     pub fn occluded_packet(&self, rays: &[Ray], t_max: f32) -> u32 {
-        #[cfg(target_arch = "x86_64")]
-        if crate::accel::lanes::has_avx2() {
-            // SAFETY: this CPU has AVX2.
-            return unsafe { self.occluded_packet_avx2(rays, t_max) };
-        }
-        self.occluded_packet_on::<Portable>(rays, t_max)
+        crate::accel::lanes::on_avx2_or!(
+            self.occluded_packet_avx2(rays, t_max),
+            self.occluded_packet_on::<Portable>(rays, t_max)
+        )
     }
 
     #[cfg(target_arch = "x86_64")]

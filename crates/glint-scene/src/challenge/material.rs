@@ -12,10 +12,10 @@ use glam::{Vec2, Vec3};
 use glint_core::desc::{MaterialDesc, ShapeDesc, TextureDesc};
 
 use super::Reader;
-use super::transform::matrix_of;
 use super::values::{self, Result};
 use super::yaml::Yaml;
 use crate::native::lexer::Pos;
+use glint_core::desc::matrix_of;
 
 /// The material keys of the book.
 const MATERIAL_KEYS: [&str; 9] = [

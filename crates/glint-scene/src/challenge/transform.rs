@@ -1,7 +1,7 @@
 //! `transform:` lists: `[translate, x, y, z]`, `[scale, …]`, `[rotate-x, rad]`,
 //! `[shear, …]` and names of defined lists, applied in the order written.
 
-use glam::{Mat3, Mat4, Vec3};
+use glam::{Mat3, Vec3};
 use glint_core::desc::TransformOp;
 
 use super::Reader;
@@ -122,17 +122,4 @@ impl Reader {
             }
         })
     }
-}
-
-/// The matrix of a list of operations, first-applied first: `M = T_n ⋯ T_1`.
-pub fn matrix_of(ops: &[TransformOp]) -> Mat4 {
-    ops.iter().fold(Mat4::IDENTITY, |m, op| {
-        let t = match *op {
-            TransformOp::Translate(t) => Mat4::from_translation(t),
-            TransformOp::Scale(s) => Mat4::from_scale(s),
-            TransformOp::Rotate { axis, degrees } => Mat4::from_axis_angle(axis.normalize(), degrees.to_radians()),
-            TransformOp::Matrix(rows) => Mat4::from_cols_array_2d(&rows).transpose(),
-        };
-        t * m
-    })
 }

@@ -18,10 +18,11 @@ use glint_core::desc::{
     TransformOp,
 };
 
-use super::model::{Child, CourseScene, Group, Light, LightKind, Material, Primitive, Shape, ops_matrix};
+use super::model::{Child, CourseScene, Group, Light, LightKind, Material, Primitive, Shape};
 use super::textures::TextureCache;
 use super::{CourseOptions, Pos, Result, Source, Warnings};
 use crate::error::SceneErrorKind;
+use glint_core::desc::matrix_of;
 
 /// The image size the course renders its reference images at.
 pub const COURSE_WIDTH: u32 = 1024;
@@ -194,7 +195,7 @@ impl Builder<'_> {
     /// A group and everything below it; `world_from_parent` places its lights.
     fn group(&mut self, group: &Group, world_from_parent: &Mat4) -> Result<NodeDesc> {
         self.count(group.pos)?;
-        let world_from_group = *world_from_parent * ops_matrix(&group.transform);
+        let world_from_group = *world_from_parent * matrix_of(&group.transform);
         for light in &group.lights {
             let placed = self.light(light, &world_from_group)?;
             self.desc.lights.extend(placed);

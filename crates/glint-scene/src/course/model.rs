@@ -214,31 +214,3 @@ fn finite(src: &Source, pos: Pos, what: &str, values: &[f32]) -> Result<()> {
         Err(src.invalid(pos, format!("'{what}' has a number too large for 32-bit floats")))
     }
 }
-
-/// The matrix of a list of ops in glint order (first op acts first), `M = Mₙ·…·M₁`.
-pub fn ops_matrix(ops: &[TransformOp]) -> Mat4 {
-    ops.iter().fold(Mat4::IDENTITY, |acc, op| {
-        let m = match *op {
-            TransformOp::Translate(v) => Mat4::from_translation(v),
-            TransformOp::Scale(s) => Mat4::from_scale(s),
-            TransformOp::Rotate { axis, degrees } => Mat4::from_axis_angle(axis.normalize(), degrees.to_radians()),
-            TransformOp::Matrix(rows) => Mat4::from_cols_array_2d(&rows).transpose(),
-        };
-        m * acc
-    })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn ops_matrix_applies_the_first_op_first() {
-        let ops = [TransformOp::Scale(Vec3::splat(2.0)), TransformOp::Translate(Vec3::X)];
-        let p = ops_matrix(&ops).transform_point3(Vec3::ONE);
-        assert!((p - Vec3::new(3.0, 2.0, 2.0)).length() < 1e-6);
-        let rows = [[1.0, 0.0, 0.0, 5.0], [0.0, 1.0, 0.0, 6.0], [0.0, 0.0, 1.0, 7.0], [0.0, 0.0, 0.0, 1.0]];
-        let p = ops_matrix(&[TransformOp::Matrix(rows)]).transform_point3(Vec3::ZERO);
-        assert_eq!(p, Vec3::new(5.0, 6.0, 7.0));
-    }
-}

@@ -919,13 +919,7 @@ fn nodes_difference(a: &[NodeDesc], b: &[NodeDesc]) -> Option<String> {
 ///
 /// The I/O error, after removing the temporary file.
 pub fn save_atomically(path: &Path, text: &str) -> std::io::Result<()> {
-    let name = path.file_name().map_or_else(|| "scene".into(), |n| n.to_string_lossy().into_owned());
-    let tmp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
-    let result = std::fs::write(&tmp, text).and_then(|()| std::fs::rename(&tmp, path));
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
+    crate::atomic_file::write_atomically(path, |tmp| std::fs::write(tmp, text), |e| e)
 }
 
 #[cfg(test)]
