@@ -199,13 +199,7 @@ fn an_environment_map_background_matches_the_cpu() {
 #[test]
 fn example_scenes_match_the_cpu() {
     let Some(gpu) = gpu() else { return };
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
-    let mut names: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap()
-        .filter_map(|e| e.ok()?.file_name().into_string().ok())
-        .filter(|n| n.ends_with(".glint"))
-        .collect();
-    names.sort();
+    let names = example_scene_names();
     let mut rendered = Vec::new();
     for name in &names {
         let mut s = scene_file(name, 32, 24, 4);

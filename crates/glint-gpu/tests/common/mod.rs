@@ -48,6 +48,18 @@ pub fn scene_file(name: &str, width: u32, height: u32, spp: u32) -> RenderScene 
     compile(&desc).expect("scene compiles")
 }
 
+/// The file names of the repository's example scenes (`scenes/*.glint`), sorted.
+pub fn example_scene_names() -> Vec<String> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let mut names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.ok()?.file_name().into_string().ok())
+        .filter(|n| n.ends_with(".glint"))
+        .collect();
+    names.sort();
+    names
+}
+
 pub fn render_cpu(scene: &RenderScene) -> Image {
     glint_core::render::render(scene, &|_, _| {}, &AtomicBool::new(false)).expect("CPU render").0
 }
