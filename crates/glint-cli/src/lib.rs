@@ -2,3 +2,4 @@
 //! arguments, so examples and tests can call it too.
 
 pub mod bench;
+pub mod checkpoint;

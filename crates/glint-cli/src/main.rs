@@ -7,10 +7,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use clap::{Parser, Subcommand, ValueEnum};
+use glint_cli::checkpoint::{Checkpointer, DEFAULT_INTERVAL_SECONDS};
 use glint_core::desc::{AdaptiveDesc, FilterKind, IntegratorDesc, PathDesc, SamplePattern, SamplerKind, SceneDesc};
 use glint_core::film::Image;
 use glint_core::film::Transfer;
-use glint_core::render::{RenderError, render_progressive};
+use glint_core::render::{NonFiniteSamples, RenderError, TileStore, render_progressive};
 use glint_core::scene::compile;
 use glint_scene::image_out::{OutputFormat, write_exr_layers, write_image};
 use glint_scene::input::InputLimits;
@@ -212,6 +213,20 @@ struct RenderArgs {
     /// The GPU runs the Whitted and path integrators and gives the CPU's image within rounding.
     #[arg(long, value_enum, default_value_t = DeviceArg::Cpu)]
     device: DeviceArg,
+    /// Save the finished part of the render to FILE every few seconds (atomically, flushed
+    /// to disk), so that a render killed by a signal or a power cut can go on with
+    /// `--resume FILE` and still give the image an uninterrupted render gives. The file is
+    /// deleted once the image is written. CPU only.
+    #[arg(long, value_name = "FILE")]
+    checkpoint: Option<PathBuf>,
+    /// Seconds between checkpoints.
+    #[arg(long, value_name = "SECONDS", default_value_t = DEFAULT_INTERVAL_SECONDS, value_parser = parse_interval)]
+    checkpoint_every: f64,
+    /// Go on with the render whose checkpoint is FILE: give the same scene and options
+    /// (only --output, --threads, --quiet and the checkpoint options may change). Saving
+    /// goes on into FILE, or into --checkpoint's file when given.
+    #[arg(long, value_name = "FILE")]
+    resume: Option<PathBuf>,
     /// Worker threads; 0 or absent uses every core. The image is identical for any count.
     #[arg(short = 'j', long, default_value_t = 0)]
     threads: usize,
@@ -270,6 +285,14 @@ enum FilterArg {
     Gaussian,
     Mitchell,
     Lanczos,
+}
+
+/// Seconds for --checkpoint-every: a positive number, fractions allowed.
+fn parse_interval(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(s) if s.is_finite() && s > 0.0 && s <= 1e6 => Ok(s),
+        _ => Err(format!("expected a number of seconds greater than 0, found '{text}'")),
+    }
 }
 
 /// A depth for --max-depth: a whole number, or -1 / `unlimited` for `u32::MAX`.
@@ -362,8 +385,16 @@ fn run_render(args: &RenderArgs) -> Result<(), Failure> {
     let handler_flag = Arc::clone(&cancel);
     ctrlc::set_handler(move || handler_flag.store(true, Ordering::Relaxed))?;
 
+    let checkpointer = checkpointer(args, &desc, &scene)?;
     if let Some(gpu) = choose_gpu(args.device, &scene, args.quiet)? {
+        if checkpointer.is_some() {
+            return Err(Failure::Message("--checkpoint and --resume work on the CPU only: use --device cpu".into()));
+        }
         return render_on_gpu(&gpu, &scene, args, format, desc.settings.output_transfer, &cancel);
+    }
+    if let Some(saved) = checkpointer.as_ref().map(|c| c.store().len()).filter(|&n| n > 0 && !args.quiet) {
+        let total = glint_core::render::tile_count(&scene);
+        eprintln!("glint: resuming: {saved} of {total} tiles were done");
     }
 
     let pool = rayon::ThreadPoolBuilder::new().num_threads(args.threads).build()?;
@@ -378,19 +409,36 @@ fn run_render(args: &RenderArgs) -> Result<(), Failure> {
         }
     };
     let first_block = if args.progressive { 16 } else { 1 };
-    let result = pool.install(|| {
-        render_progressive(
-            &scene,
-            first_block,
-            &mut on_pass,
-            &|done, total| {
-                bar.set_length(total as u64);
-                bar.set_position(done as u64);
-            },
-            &cancel,
-        )
-    });
+    let fresh_store = TileStore::default();
+    let store = checkpointer.as_ref().map_or(&fresh_store, Checkpointer::store);
+    let mut render = || {
+        pool.install(|| {
+            render_progressive(
+                &scene,
+                store,
+                first_block,
+                &mut on_pass,
+                &|done, total| {
+                    bar.set_length(total as u64);
+                    bar.set_position(done as u64);
+                },
+                &cancel,
+            )
+        })
+    };
+    let result = match &checkpointer {
+        Some(checkpointer) => checkpointer.run(render),
+        None => render(),
+    };
     bar.finish_and_clear();
+    if let Some(checkpointer) = &checkpointer {
+        if let Some(warning) = checkpointer.failure() {
+            eprintln!("glint: warning: {warning}");
+        } else if result.is_err() {
+            let path = checkpointer.path().display();
+            eprintln!("glint: the finished tiles are saved in '{path}': go on with --resume {path}");
+        }
+    }
     if let Some(e) = preview_error {
         return Err(e.into());
     }
@@ -410,6 +458,10 @@ fn run_render(args: &RenderArgs) -> Result<(), Failure> {
         }
         None => write_image(&image, &args.output, format, transfer)?,
     }
+    if let Some(checkpointer) = &checkpointer {
+        checkpointer.remove();
+    }
+    report_non_finite(&stats.non_finite, &scene, &desc);
     if let Some(path) = &args.aov_samples {
         write_image(
             &sample_count_image(&image, &stats.samples_per_pixel),
@@ -432,6 +484,47 @@ fn run_render(args: &RenderArgs) -> Result<(), Failure> {
         );
     }
     Ok(())
+}
+
+/// The checkpointing that `--checkpoint` and `--resume` ask for, if they do.
+fn checkpointer<'a>(
+    args: &RenderArgs,
+    desc: &SceneDesc,
+    scene: &'a glint_core::scene::RenderScene,
+) -> Result<Option<Checkpointer<'a>>, Failure> {
+    let every = std::time::Duration::from_secs_f64(args.checkpoint_every);
+    Ok(match (&args.resume, &args.checkpoint) {
+        (Some(from), to) => Some(Checkpointer::resume(scene, desc, from, to.clone().unwrap_or(from.clone()), every)?),
+        (None, Some(to)) => Some(Checkpointer::fresh(scene, desc, to.clone(), every)),
+        (None, None) => None,
+    })
+}
+
+/// Says once, after the render, how many samples were NaN or infinite and which
+/// surfaces produced them: those samples were left out of the image.
+fn report_non_finite(non_finite: &NonFiniteSamples, scene: &glint_core::scene::RenderScene, desc: &SceneDesc) {
+    if non_finite.is_empty() {
+        return;
+    }
+    eprintln!(
+        "glint: warning: {} samples came back NaN or infinite and were left out of the image:",
+        non_finite.total()
+    );
+    for (source, tally) in non_finite.by_source() {
+        let (x, y) = tally.example_pixel;
+        let from = match source {
+            Some(surface) => {
+                let kind = format!("{:?}", scene.instances[surface.instance as usize].shape.kind).to_lowercase();
+                let material = match desc.materials.get(surface.material as usize).map(|m| m.name.as_str()) {
+                    Some(name) if !name.is_empty() => format!("material '{name}'"),
+                    _ => format!("material #{}", surface.material),
+                };
+                format!("a {kind} (object #{}) with {material}", surface.instance)
+            }
+            None => "the background or environment".to_string(),
+        };
+        eprintln!("  {} from {from}, e.g. at pixel ({x}, {y})", tally.count);
+    }
 }
 
 /// The GPU to render on, if `device` asks for one and (for `auto`) a hardware GPU

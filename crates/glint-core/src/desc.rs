@@ -33,6 +33,17 @@ pub struct SceneDesc {
     pub meshes: Vec<MeshDesc>,
 }
 
+impl SceneDesc {
+    /// A hash of the whole description, stable across runs and machines: a checkpoint
+    /// carries it, so a render resumes only the scene and settings it was made for.
+    pub fn fingerprint(&self) -> u64 {
+        let mut hash = crate::fnv::Fnv1a::default();
+        // Debug prints every field, and every float exactly (shortest round-trip form).
+        std::fmt::Write::write_fmt(&mut hash, format_args!("{self:?}")).expect("hashing never fails");
+        hash.finish()
+    }
+}
+
 /// A triangle mesh as flat arrays, in its own object space.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct MeshDesc {

@@ -85,6 +85,25 @@ impl FilmTile {
         }
     }
 
+    /// The weighted sums as they are, to save the film bit for bit: colour sums,
+    /// weights, and AOV sums (empty unless kept), row by row.
+    pub fn raw(&self) -> (&[Vec3], &[f32], &[[Vec3; 3]]) {
+        (&self.sums, &self.weights, &self.aov_sums)
+    }
+
+    /// The film [`FilmTile::raw`] saved, or `None` when the arrays do not fit the
+    /// rectangle.
+    pub fn from_raw(
+        (x0, y0, width, height): (u32, u32, u32, u32),
+        sums: Vec<Vec3>,
+        weights: Vec<f32>,
+        aov_sums: Vec<[Vec3; 3]>,
+    ) -> Option<Self> {
+        let n = width as usize * height as usize;
+        let fits = sums.len() == n && weights.len() == n && (aov_sums.is_empty() || aov_sums.len() == n);
+        fits.then_some(Self { x0, y0, width, height, sums, weights, aov_sums })
+    }
+
     /// Adds another rectangle's sums into this one (the parts that overlap).
     pub fn merge(&mut self, other: &FilmTile) {
         for y in other.y0.max(self.y0)..(other.y0 + other.height).min(self.y0 + self.height) {

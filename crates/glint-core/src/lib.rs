@@ -10,6 +10,7 @@ pub mod camera;
 pub mod desc;
 pub mod emitter;
 pub mod film;
+pub mod fnv;
 pub mod integrator;
 pub mod light;
 pub mod material;

@@ -4,7 +4,7 @@
 //! (the native `.glint` format, the CS123/CS1230 course formats, Mitsuba 3 XML and texture images) so that glint-core never touches I/O.
 //! Every file is read through [`input`], which bounds its size.
 
-mod atomic_file;
+pub mod atomic_file;
 pub mod challenge;
 pub mod convert;
 pub mod course;

@@ -92,6 +92,10 @@ pub fn radiance(
             *aov = Aov { albedo: bsdf.albedo(), normal: hit.normal, depth: hit.t * ray.dir.length() };
         }
         radiance += throughput * emitted(scene, &hit, &bsdf, wo_world, previous);
+        if !radiance.is_finite() {
+            counters.blame(&hit);
+            break;
+        }
 
         // Mitsuba's counting: a path of max_depth vertices past the camera at most.
         if depth.saturating_add(1) >= limits.max_depth {
@@ -110,6 +114,10 @@ pub fn radiance(
             radiance +=
                 throughput * direct_light(scene, &hit, &bsdf, &frame, wo, (choices.x, u_light), ray.time, counters);
         }
+        if !radiance.is_finite() {
+            counters.blame(&hit);
+            break;
+        }
         let u_lobe = choices.y;
         let Some(sample) = bsdf.sample(wo, u_lobe, u_dir) else { break };
         let wi = frame.to_world(sample.wi);
@@ -122,8 +130,13 @@ pub fn radiance(
         previous = Some(Bounce { point: hit.point, pdf: sample.pdf, delta: sample.delta });
         depth += 1;
 
+        if !throughput.is_finite() {
+            // A BSDF sample weighed NaN or infinity: the whole sample is void.
+            counters.blame(&hit);
+            return Vec3::NAN;
+        }
         let most = throughput.max_element();
-        if (most.is_nan() || most <= 0.0) || !throughput.is_finite() {
+        if most <= 0.0 {
             break;
         }
         // Roulette draws its number only at depths where it plays (the same depths for

@@ -44,7 +44,7 @@ pub fn shade(
     let mut color = direct_lighting(scene, &hit, material, (n, -d), ray.time, ctx);
 
     if depth >= scene.settings.max_depth {
-        return color;
+        return blamed_if_non_finite(color, &hit, ctx);
     }
     let worth_tracing = |w: Vec3| w.max_element() > scene.settings.min_contribution;
     let reflected_dir = reflect(d, n);
@@ -64,6 +64,16 @@ pub fn shade(
             None => Ray::new(offset_ray_origin(hit.point, ng), reflected_dir).at_time(ray.time),
         };
         color += material.transmissive * radiance(scene, &r, depth + 1, transmit_weight, ctx);
+    }
+    blamed_if_non_finite(color, &hit, ctx)
+}
+
+/// `color`, after noting `hit` as the culprit if it is not finite. Rays return from the
+/// deepest first, so the first surface noted is where the fault arose.
+#[inline]
+fn blamed_if_non_finite(color: Vec3, hit: &Hit, ctx: &mut TraceContext) -> Vec3 {
+    if !color.is_finite() {
+        ctx.counters.blame(hit);
     }
     color
 }

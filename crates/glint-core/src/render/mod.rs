@@ -2,7 +2,11 @@
 //!
 //! Every sample is a pure function of the scene, its pixel, its index and the seed;
 //! tiles splat into their own buffers (tile plus filter halo) that are merged in a
-//! fixed order, so the image is bit-identical for any thread count.
+//! fixed order, so the image is bit-identical for any thread count — and for a render
+//! resumed from a checkpoint of its finished tiles ([`TileStore`]).
+
+mod checkpoint;
+mod non_finite;
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
@@ -13,10 +17,12 @@ use crate::accel::PACKET;
 use crate::desc::AdaptiveDesc;
 use crate::desc::IntegratorDesc;
 use crate::film::{Aov, AovImages, FilmTile, Image, linear_to_srgb};
-use crate::integrator::{Counters, TraceContext, path, whitted};
+use crate::integrator::{Counters, SurfaceId, TraceContext, path, whitted};
 use crate::math::Ray;
 use crate::sampling::{PathSampler, PixelSampler, Rng, SamplePattern, hash};
 use crate::scene::RenderScene;
+pub use checkpoint::{CheckpointError, FinishedTile, TileStore, max_checkpoint_len};
+pub use non_finite::{NonFiniteSamples, SourceTally};
 
 /// Side of the square tiles the image is cut into.
 pub const TILE_SIZE: u32 = 16;
@@ -31,6 +37,8 @@ pub struct RenderStats {
     pub samples_per_pixel: Vec<u32>,
     /// Albedo, normal and depth images, when the scene's settings ask for them.
     pub aovs: Option<AovImages>,
+    /// Samples left out of the film because they came back NaN or infinite.
+    pub non_finite: NonFiniteSamples,
 }
 
 /// Why a render returned no image.
@@ -47,36 +55,70 @@ pub fn render(
     progress: &(dyn Fn(usize, usize) + Sync),
     cancel: &AtomicBool,
 ) -> Result<(Image, RenderStats), RenderError> {
-    let (width, height) = (scene.settings.width, scene.settings.height);
-    let tiles_x = width.div_ceil(TILE_SIZE);
-    let total = (tiles_x * height.div_ceil(TILE_SIZE)) as usize;
-    let done = AtomicUsize::new(0);
-    let tiles: Vec<Option<TileResult>> = (0..total)
-        .into_par_iter()
-        .map(|i| {
-            if cancel.load(Ordering::Relaxed) {
-                return None;
-            }
-            let tile = render_tile(scene, (i as u32 % tiles_x) * TILE_SIZE, (i as u32 / tiles_x) * TILE_SIZE);
-            progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
-            Some(tile)
-        })
-        .collect();
-    if cancel.load(Ordering::Relaxed) || tiles.iter().any(Option::is_none) {
+    render_resumable(scene, &TileStore::default(), progress, cancel)
+}
+
+/// [`render`] that keeps each finished tile in `store` and traces only the tiles it
+/// lacks: a store restored from a checkpoint resumes an interrupted render, and the
+/// image is bit-identical to an uninterrupted one. A cancelled render leaves its
+/// finished tiles in the store.
+pub fn render_resumable(
+    scene: &RenderScene,
+    store: &TileStore,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    cancel: &AtomicBool,
+) -> Result<(Image, RenderStats), RenderError> {
+    let total = tile_count(scene);
+    let done = AtomicUsize::new(store.len());
+    (0..total).into_par_iter().for_each(|index| {
+        if cancel.load(Ordering::Relaxed) || store.contains(index) {
+            return;
+        }
+        store.insert(index, render_tile(scene, index));
+        progress(done.fetch_add(1, Ordering::Relaxed) + 1, total as usize);
+    });
+    if cancel.load(Ordering::Relaxed) || store.len() < total as usize {
         return Err(RenderError::Cancelled);
     }
+    Ok(store.with_tiles(|tiles| merge_tiles(scene, tiles)))
+}
+
+/// The image and its statistics from every tile's share, merged in tile order.
+fn merge_tiles<'a>(scene: &RenderScene, tiles: impl Iterator<Item = &'a FinishedTile>) -> (Image, RenderStats) {
+    let (width, height) = (scene.settings.width, scene.settings.height);
     let mut film = new_film(scene, 0, 0, width, height);
-    let mut stats = RenderStats { rays: 0, samples_per_pixel: vec![0; (width * height) as usize], aovs: None };
-    for tile in tiles.into_iter().flatten() {
+    let mut stats = RenderStats { samples_per_pixel: vec![0; (width * height) as usize], ..RenderStats::default() };
+    for tile in tiles {
         film.merge(&tile.film);
-        stats.rays += tile.counters.rays;
-        for (row, counts) in tile.samples.chunks(tile.width as usize).enumerate() {
-            let start = ((tile.y0 + row as u32) * width + tile.x0) as usize;
+        stats.rays += tile.rays;
+        stats.non_finite.merge(&tile.non_finite);
+        let (x0, y0, x1, _) = tile.bounds;
+        for (row, counts) in tile.samples.chunks((x1 - x0) as usize).enumerate() {
+            let start = ((y0 + row as u32) * width + x0) as usize;
             stats.samples_per_pixel[start..start + counts.len()].copy_from_slice(counts);
         }
     }
     stats.aovs = film.resolve_aovs();
-    Ok((film.resolve(), stats))
+    (film.resolve(), stats)
+}
+
+/// How many tiles the image is cut into.
+pub fn tile_count(scene: &RenderScene) -> u32 {
+    scene.settings.width.div_ceil(TILE_SIZE) * scene.settings.height.div_ceil(TILE_SIZE)
+}
+
+/// Tile `index`'s pixels `(x0, y0, x1, y1)` (row by row from the top left), and the
+/// larger rectangle its samples splat into: the filter reaches beyond the tile by up
+/// to ⌊r + ½⌋ pixels on either side, as a sample lies in [0, 1] from its pixel's corner
+/// (the corners pattern puts some on the far edge, shared with the next pixel).
+fn tile_rects(scene: &RenderScene, index: u32) -> ([u32; 4], [u32; 4]) {
+    let s = &scene.settings;
+    let tiles_x = s.width.div_ceil(TILE_SIZE);
+    let (x0, y0) = ((index % tiles_x) * TILE_SIZE, (index / tiles_x) * TILE_SIZE);
+    let (x1, y1) = ((x0 + TILE_SIZE).min(s.width), (y0 + TILE_SIZE).min(s.height));
+    let halo = (s.filter.radius + 0.5).floor() as u32;
+    let film = [x0.saturating_sub(halo), y0.saturating_sub(halo), (x1 + halo).min(s.width), (y1 + halo).min(s.height)];
+    ([x0, y0, x1, y1], film)
 }
 
 fn new_film(scene: &RenderScene, x0: u32, y0: u32, width: u32, height: u32) -> FilmTile {
@@ -84,41 +126,39 @@ fn new_film(scene: &RenderScene, x0: u32, y0: u32, width: u32, height: u32) -> F
     if scene.settings.aovs { film.with_aovs() } else { film }
 }
 
-/// One traced camera sample: where it lies on the film, what it brought back, and
-/// what its first hit looks like.
+/// One traced camera sample: where it lies on the film, what it brought back, what
+/// its first hit looks like, and which surface to blame if its value is not finite.
 struct Traced {
     fx: f32,
     fy: f32,
     value: Vec3,
     aov: Aov,
+    culprit: Option<SurfaceId>,
 }
 
-impl Traced {
-    fn splat(&self, film: &mut FilmTile, scene: &RenderScene) {
-        film.splat_with(&scene.settings.filter, self.fx, self.fy, self.value, Some(&self.aov));
+/// A tile's film, as its samples are splatted: non-finite ones are counted instead.
+struct TileFilm<'a> {
+    scene: &'a RenderScene,
+    film: FilmTile,
+    non_finite: NonFiniteSamples,
+}
+
+impl TileFilm<'_> {
+    fn splat(&mut self, traced: &Traced) {
+        if traced.value.is_finite() {
+            let filter = &self.scene.settings.filter;
+            self.film.splat_with(filter, traced.fx, traced.fy, traced.value, Some(&traced.aov));
+        } else {
+            self.non_finite.record(traced.culprit, (traced.fx as u32, traced.fy as u32));
+        }
     }
 }
 
-struct TileResult {
-    film: FilmTile,
-    x0: u32,
-    y0: u32,
-    width: u32,
-    samples: Vec<u32>,
-    counters: Counters,
-}
-
-fn render_tile(scene: &RenderScene, x0: u32, y0: u32) -> TileResult {
+fn render_tile(scene: &RenderScene, index: u32) -> FinishedTile {
     let s = &scene.settings;
-    let x1 = (x0 + TILE_SIZE).min(s.width);
-    let y1 = (y0 + TILE_SIZE).min(s.height);
-    // The filter reaches this many pixels beyond the tile: a sample lies in [0, 1]
-    // from its pixel's corner (the corners pattern puts some on the far edge, shared
-    // with the next pixel), so up to ⌊r + ½⌋ pixels on either side.
-    let halo = (s.filter.radius + 0.5).floor() as u32;
-    let (fx0, fy0) = (x0.saturating_sub(halo), y0.saturating_sub(halo));
-    let (fx1, fy1) = ((x1 + halo).min(s.width), (y1 + halo).min(s.height));
-    let mut film = new_film(scene, fx0, fy0, fx1 - fx0, fy1 - fy0);
+    let ([x0, y0, x1, y1], [fx0, fy0, fx1, fy1]) = tile_rects(scene, index);
+    let mut film =
+        TileFilm { scene, film: new_film(scene, fx0, fy0, fx1 - fx0, fy1 - fy0), non_finite: Default::default() };
     let mut counters = Counters::default();
     let samples = match s.adaptive {
         None => {
@@ -130,7 +170,13 @@ fn render_tile(scene: &RenderScene, x0: u32, y0: u32) -> TileResult {
         }
         Some(adaptive) => adaptive_tile(scene, &adaptive, (x0, y0, x1, y1), &mut film, &mut counters),
     };
-    TileResult { film, x0, y0, width: x1 - x0, samples, counters }
+    FinishedTile {
+        bounds: (x0, y0, x1, y1),
+        film: film.film,
+        samples,
+        rays: counters.rays,
+        non_finite: film.non_finite,
+    }
 }
 
 /// Adaptive sampling of one tile, in two passes. First every pixel takes the minimum
@@ -147,7 +193,7 @@ fn adaptive_tile(
     scene: &RenderScene,
     adaptive: &AdaptiveDesc,
     (x0, y0, x1, y1): (u32, u32, u32, u32),
-    film: &mut FilmTile,
+    film: &mut TileFilm,
     counters: &mut Counters,
 ) -> Vec<u32> {
     let s = &scene.settings;
@@ -163,7 +209,7 @@ fn adaptive_tile(
             for index in 0..adaptive.min_samples {
                 let traced = trace_sample(scene, &sampler, px, py, index, counters);
                 if inside {
-                    traced.splat(film, scene);
+                    film.splat(&traced);
                 }
                 spread.add(display_luminance(traced.value));
             }
@@ -186,7 +232,7 @@ fn adaptive_tile(
             loop {
                 while spread.count < target {
                     let traced = trace_sample(scene, &sampler, px, py, spread.count, counters);
-                    traced.splat(film, scene);
+                    film.splat(&traced);
                     spread.add(display_luminance(traced.value));
                 }
                 if spread.count >= adaptive.max_samples || spread.standard_error() <= adaptive.threshold {
@@ -204,13 +250,14 @@ fn adaptive_tile(
 /// pixel order. Camera rays go out in packets: sample `index` of up to [`PACKET`]
 /// neighbouring pixels of a row at once ([`RenderScene::intersect_packet`]); each is
 /// then shaded on its own.
-fn uniform_tile(scene: &RenderScene, tile: (u32, u32, u32, u32), film: &mut FilmTile, counters: &mut Counters) {
+fn uniform_tile(scene: &RenderScene, tile: (u32, u32, u32, u32), film: &mut TileFilm, counters: &mut Counters) {
     let (x0, y0, x1, y1) = tile;
     let s = &scene.settings;
     let count = s.spp as usize;
     // Per pixel of a run, per sample: film position, value and AOVs.
-    let mut values: Vec<Traced> =
-        (0..PACKET * count).map(|_| Traced { fx: 0.0, fy: 0.0, value: Vec3::ZERO, aov: Aov::default() }).collect();
+    let mut values: Vec<Traced> = (0..PACKET * count)
+        .map(|_| Traced { fx: 0.0, fy: 0.0, value: Vec3::ZERO, aov: Aov::default(), culprit: None })
+        .collect();
     for py in y0..y1 {
         for run_x in (x0..x1).step_by(PACKET) {
             let run = (x1 - run_x).min(PACKET as u32) as usize;
@@ -224,12 +271,12 @@ fn uniform_tile(scene: &RenderScene, tile: (u32, u32, u32, u32), film: &mut Film
                     let value = whitted::shade(scene, &sample.ray, hits[k], 0, Vec3::ONE, &mut sample.ctx);
                     counters.rays += sample.ctx.counters.rays;
                     let aov = if s.aovs { whitted_aov(scene, &sample.ray, hits[k].as_ref()) } else { Aov::default() };
-                    values[k * count + index as usize] =
-                        Traced { fx: sample.fx, fy: sample.fy, value: finite_or_black(value), aov };
+                    let culprit = sample.ctx.counters.non_finite_at;
+                    values[k * count + index as usize] = Traced { fx: sample.fx, fy: sample.fy, value, aov, culprit };
                 }
             }
             for traced in &values[..run * count] {
-                traced.splat(film, scene);
+                film.splat(traced);
             }
         }
     }
@@ -240,14 +287,14 @@ fn uniform_tile(scene: &RenderScene, tile: (u32, u32, u32, u32), film: &mut Film
 fn path_tile(
     scene: &RenderScene,
     (x0, y0, x1, y1): (u32, u32, u32, u32),
-    film: &mut FilmTile,
+    film: &mut TileFilm,
     counters: &mut Counters,
 ) {
     let s = &scene.settings;
     for py in y0..y1 {
         for px in x0..x1 {
             for index in 0..s.spp {
-                path_sample(scene, px, py, index, counters).splat(film, scene);
+                film.splat(&path_sample(scene, px, py, index, counters));
             }
         }
     }
@@ -273,7 +320,7 @@ fn path_sample(scene: &RenderScene, px: u32, py: u32, index: u32, counters: &mut
     }
     let mut aov = Aov::default();
     let value = path::radiance(scene, &ray, &mut sampler, counters, s.aovs.then_some(&mut aov));
-    Traced { fx, fy, value: finite_or_black(value), aov }
+    Traced { fx, fy, value, aov, culprit: counters.non_finite_at.take() }
 }
 
 /// The AOVs of a Whitted camera ray from its first hit: the diffuse colour (textured).
@@ -323,7 +370,7 @@ fn trace_sample(
     let value = whitted::shade(scene, &sample.ray, hit, 0, Vec3::ONE, &mut sample.ctx);
     counters.rays += sample.ctx.counters.rays;
     let aov = if scene.settings.aovs { whitted_aov(scene, &sample.ray, hit.as_ref()) } else { Aov::default() };
-    Traced { fx: sample.fx, fy: sample.fy, value: finite_or_black(value), aov }
+    Traced { fx: sample.fx, fy: sample.fy, value, aov, culprit: sample.ctx.counters.non_finite_at }
 }
 
 /// Radiance through film position (`fx`, `fy`) in pixels (y down).
@@ -348,8 +395,8 @@ fn camera_ray(scene: &RenderScene, fx: f32, fy: f32, lens: Vec2, ctx: &mut Trace
     ray
 }
 
-/// A non-finite value (a NaN from a degenerate configuration) becomes black instead of
-/// poisoning the pixel.
+/// A non-finite value (a NaN from a degenerate configuration) becomes black in a preview,
+/// which keeps no statistics.
 fn finite_or_black(value: Vec3) -> Vec3 {
     if value.is_finite() { value } else { Vec3::ZERO }
 }
@@ -399,7 +446,7 @@ pub fn render_preview(scene: &RenderScene, block: u32) -> Image {
                     let cy = ((by * block) as f32 + 0.5 * block as f32).min(height as f32 - 0.5);
                     if let IntegratorDesc::Path(_) = scene.settings.integrator {
                         let mut counters = Counters::default();
-                        return path_sample(scene, cx as u32, cy as u32, 0, &mut counters).value;
+                        return finite_or_black(path_sample(scene, cx as u32, cy as u32, 0, &mut counters).value);
                     }
                     let mut ctx = TraceContext { counters: Counters::default(), rng: Rng::new(hash(&[bx, by])) };
                     trace_film_point(scene, cx, cy, Vec2::splat(0.5), &mut ctx)
@@ -416,10 +463,12 @@ pub fn render_preview(scene: &RenderScene, block: u32) -> Image {
     image
 }
 
-/// Subsampled previews at halving block sizes, then the full render; `on_pass` sees
-/// each image as it is ready (a viewer shows it, the CLI rewrites the output file).
+/// Subsampled previews at halving block sizes, then the full render
+/// ([`render_resumable`] into `store`); `on_pass` sees each image as it is ready (a
+/// viewer shows it, the CLI rewrites the output file).
 pub fn render_progressive(
     scene: &RenderScene,
+    store: &TileStore,
     first_block: u32,
     on_pass: &mut dyn FnMut(&Image, u32),
     progress: &(dyn Fn(usize, usize) + Sync),
@@ -433,7 +482,7 @@ pub fn render_progressive(
         on_pass(&render_preview(scene, block), block);
         block /= 2;
     }
-    let result = render(scene, progress, cancel)?;
+    let result = render_resumable(scene, store, progress, cancel)?;
     on_pass(&result.0, 1);
     Ok(result)
 }
