@@ -2,6 +2,9 @@
 //! few seconds, so a render killed by a signal or a power cut goes on where it was
 //! and still writes the image an uninterrupted render writes.
 
+use std::collections::BTreeSet;
+use std::fs::File;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::sync::mpsc;
@@ -9,55 +12,88 @@ use std::time::Duration;
 
 use glint_core::desc::SceneDesc;
 use glint_core::fnv::Fnv1a;
-use glint_core::render::{TileStore, max_checkpoint_len};
+use glint_core::render::{TileStore, checkpoint_header, max_checkpoint_len};
 use glint_core::scene::RenderScene;
 use glint_scene::atomic_file::write_durably;
 
 /// Seconds between checkpoints unless `--checkpoint-every` says otherwise.
 pub const DEFAULT_INTERVAL_SECONDS: f64 = 5.0;
 
-/// The finished tiles of one render and the file they are saved to.
-pub struct Checkpointer<'a> {
-    scene: &'a RenderScene,
+/// The finished tiles of one render and the journal they are appended to.
+pub struct Checkpointer {
     path: PathBuf,
     every: Duration,
-    fingerprint: u64,
     store: TileStore,
-    /// Tiles in the file as last saved: an unchanged store is not written again.
-    saved: Mutex<usize>,
+    journal: Mutex<Journal>,
     /// The first save that failed: the render goes on, and the caller warns.
     failure: Mutex<Option<String>>,
 }
 
-impl<'a> Checkpointer<'a> {
+/// The open checkpoint file, its length, and the tiles already in it.
+struct Journal {
+    file: File,
+    len: u64,
+    written: BTreeSet<u32>,
+}
+
+impl Checkpointer {
     /// A render that starts afresh and saves to `path`, replacing what is there.
-    pub fn fresh(scene: &'a RenderScene, desc: &SceneDesc, path: PathBuf, every: Duration) -> Self {
-        Self::with_store(scene, desc, path, every, TileStore::default())
+    ///
+    /// # Errors
+    ///
+    /// The file cannot be written.
+    pub fn fresh(scene: &RenderScene, desc: &SceneDesc, path: PathBuf, every: Duration) -> Result<Self, String> {
+        Self::start(scene, desc, path, every, TileStore::default())
     }
 
-    /// A render that goes on from the checkpoint at `from` and saves to `path`.
+    /// A render that goes on from the checkpoint at `from` and saves to `path` (which
+    /// may be `from`: then the tiles after a record torn by the interruption are cut
+    /// off, and saving appends where the last whole record ends).
     ///
     /// # Errors
     ///
     /// A sentence naming `from`: it is missing, not a regular file, too large for this
-    /// scene's checkpoint, damaged, or made for another scene or other settings.
+    /// scene's checkpoint, damaged, or made for another scene or other settings; or
+    /// `path` cannot be written.
     pub fn resume(
-        scene: &'a RenderScene,
+        scene: &RenderScene,
         desc: &SceneDesc,
         from: &Path,
         path: PathBuf,
         every: Duration,
     ) -> Result<Self, String> {
-        let fingerprint = fingerprint(scene, desc);
         let bytes = read_checkpoint(from, scene)?;
-        let store = TileStore::from_checkpoint(&bytes, scene, fingerprint)
+        let restored = TileStore::from_checkpoint(&bytes, scene, fingerprint(scene, desc))
             .map_err(|e| format!("cannot resume from '{}': {e}", from.display()))?;
-        Ok(Self::with_store(scene, desc, path, every, store))
+        if same_file(from, &path) {
+            let cannot = |e: std::io::Error| format!("cannot append to the checkpoint '{}': {e}", path.display());
+            let file = std::fs::OpenOptions::new().append(true).open(&path).map_err(cannot)?;
+            file.set_len(restored.valid_len as u64).and_then(|()| file.sync_all()).map_err(cannot)?;
+            let journal = Journal { file, len: restored.valid_len as u64, written: restored.store.indices() };
+            return Ok(Self::with(path, every, restored.store, journal));
+        }
+        Self::start(scene, desc, path, every, restored.store)
     }
 
-    fn with_store(scene: &'a RenderScene, desc: &SceneDesc, path: PathBuf, every: Duration, store: TileStore) -> Self {
-        let saved = Mutex::new(store.len());
-        Self { scene, path, every, fingerprint: fingerprint(scene, desc), store, saved, failure: Mutex::new(None) }
+    /// Writes a new journal at `path` holding the header and `store`'s tiles.
+    fn start(
+        scene: &RenderScene,
+        desc: &SceneDesc,
+        path: PathBuf,
+        every: Duration,
+        store: TileStore,
+    ) -> Result<Self, String> {
+        let mut written = BTreeSet::new();
+        let mut bytes = checkpoint_header(scene, fingerprint(scene, desc));
+        bytes.extend(store.new_records(&mut written));
+        let cannot = |e: std::io::Error| format!("cannot write the checkpoint '{}': {e}", path.display());
+        write_durably(&path, &bytes).map_err(cannot)?;
+        let file = std::fs::OpenOptions::new().append(true).open(&path).map_err(cannot)?;
+        Ok(Self::with(path, every, store, Journal { file, len: bytes.len() as u64, written }))
+    }
+
+    fn with(path: PathBuf, every: Duration, store: TileStore, journal: Journal) -> Self {
+        Self { path, every, store, journal: Mutex::new(journal), failure: Mutex::new(None) }
     }
 
     /// The tiles the render fills (and, when resuming, starts from).
@@ -65,8 +101,8 @@ impl<'a> Checkpointer<'a> {
         &self.store
     }
 
-    /// Runs `render`, saving the store every interval meanwhile and once more when it
-    /// returns (finished or cancelled).
+    /// Runs `render`, saving every interval meanwhile and once more when it returns
+    /// (finished or cancelled).
     pub fn run<R: Send>(&self, render: impl FnOnce() -> R + Send) -> R {
         let (done, wait) = mpsc::channel::<()>();
         let result = std::thread::scope(|scope| {
@@ -83,17 +119,21 @@ impl<'a> Checkpointer<'a> {
         result
     }
 
-    /// Writes the store to the file, durably, unless it is as last saved.
+    /// Appends the tiles finished since the last save and flushes them to the disk.
     fn save(&self) {
-        let mut saved = self.saved.lock().unwrap_or_else(|p| p.into_inner());
-        let tiles = self.store.len();
-        if tiles == *saved && self.path.exists() {
+        let mut journal = self.journal.lock().unwrap_or_else(|p| p.into_inner());
+        let Journal { file, len, written } = &mut *journal;
+        let before = written.clone();
+        let records = self.store.new_records(written);
+        if records.is_empty() {
             return;
         }
-        let bytes = self.store.to_checkpoint(self.scene, self.fingerprint);
-        match write_durably(&self.path, &bytes) {
-            Ok(()) => *saved = tiles,
+        match file.write_all(&records).and_then(|()| file.sync_data()) {
+            Ok(()) => *len += records.len() as u64,
             Err(e) => {
+                // Cut off what was half written; those tiles are tried again next time.
+                *written = before;
+                let _ = file.set_len(*len);
                 let mut failure = self.failure.lock().unwrap_or_else(|p| p.into_inner());
                 failure.get_or_insert_with(|| format!("could not save the checkpoint '{}': {e}", self.path.display()));
             }
@@ -138,4 +178,12 @@ fn read_checkpoint(path: &Path, scene: &RenderScene) -> Result<Vec<u8>, String> 
         return Err(fail(format!("{} bytes is more than any checkpoint of this scene holds", meta.len())));
     }
     std::fs::read(path).map_err(|e| fail(e.to_string()))
+}
+
+/// Whether `a` and `b` name the same file (`b` may not exist yet).
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    }
 }

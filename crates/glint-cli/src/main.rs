@@ -385,13 +385,19 @@ fn run_render(args: &RenderArgs) -> Result<(), Failure> {
     let handler_flag = Arc::clone(&cancel);
     ctrlc::set_handler(move || handler_flag.store(true, Ordering::Relaxed))?;
 
-    let checkpointer = checkpointer(args, &desc, &scene)?;
-    if let Some(gpu) = choose_gpu(args.device, &scene, args.quiet)? {
-        if checkpointer.is_some() {
+    // Checkpoints hold the CPU's tiles: `auto` means the CPU for them.
+    let checkpointing = args.checkpoint.is_some() || args.resume.is_some();
+    let device = match args.device {
+        DeviceArg::Gpu if checkpointing => {
             return Err(Failure::Message("--checkpoint and --resume work on the CPU only: use --device cpu".into()));
         }
+        DeviceArg::Auto if checkpointing => DeviceArg::Cpu,
+        device => device,
+    };
+    if let Some(gpu) = choose_gpu(device, &scene, args.quiet)? {
         return render_on_gpu(&gpu, &scene, args, format, desc.settings.output_transfer, &cancel);
     }
+    let checkpointer = checkpointer(args, &desc, &scene)?;
     if let Some(saved) = checkpointer.as_ref().map(|c| c.store().len()).filter(|&n| n > 0 && !args.quiet) {
         let total = glint_core::render::tile_count(&scene);
         eprintln!("glint: resuming: {saved} of {total} tiles were done");
@@ -487,15 +493,15 @@ fn run_render(args: &RenderArgs) -> Result<(), Failure> {
 }
 
 /// The checkpointing that `--checkpoint` and `--resume` ask for, if they do.
-fn checkpointer<'a>(
+fn checkpointer(
     args: &RenderArgs,
     desc: &SceneDesc,
-    scene: &'a glint_core::scene::RenderScene,
-) -> Result<Option<Checkpointer<'a>>, Failure> {
+    scene: &glint_core::scene::RenderScene,
+) -> Result<Option<Checkpointer>, Failure> {
     let every = std::time::Duration::from_secs_f64(args.checkpoint_every);
     Ok(match (&args.resume, &args.checkpoint) {
         (Some(from), to) => Some(Checkpointer::resume(scene, desc, from, to.clone().unwrap_or(from.clone()), every)?),
-        (None, Some(to)) => Some(Checkpointer::fresh(scene, desc, to.clone(), every)),
+        (None, Some(to)) => Some(Checkpointer::fresh(scene, desc, to.clone(), every)?),
         (None, None) => None,
     })
 }

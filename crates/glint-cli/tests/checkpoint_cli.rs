@@ -69,6 +69,10 @@ fn a_killed_render_resumes_to_the_uninterrupted_image() {
     let dir = workdir("kill");
     run(glint().args(RENDER).args(["-q", "-o"]).arg(dir.join("whole.exr")).arg(scene("cornell-path.glint")));
     let checkpoint = killed_render(&dir);
+    // A power cut mid-append leaves a torn record: it is cut off and its tile retraced.
+    let mut torn = std::fs::OpenOptions::new().append(true).open(&checkpoint).unwrap();
+    std::io::Write::write_all(&mut torn, &[0x40, 0x1f, 0, 0, 7, 0, 0]).unwrap();
+    drop(torn);
     let resumed = run(glint()
         .args(RENDER)
         .arg("--resume")
@@ -101,7 +105,7 @@ fn a_checkpoint_of_other_settings_is_refused_by_name() {
     assert!(stderr.contains("render.ckpt") && stderr.contains("another scene or other settings"), "{stderr}");
     assert!(!dir.join("other.exr").exists());
     assert!(checkpoint.exists(), "a refused checkpoint must be kept");
-    std::fs::write(&checkpoint, b"GLINTCKP\x01\0\0\0 cut").unwrap();
+    std::fs::write(&checkpoint, b"GLINTCKP\x02\0\0\0 cut").unwrap();
     let output =
         glint().args(RENDER).arg("--resume").arg(&checkpoint).arg(scene("cornell-path.glint")).output().unwrap();
     assert!(String::from_utf8_lossy(&output.stderr).contains("damaged"), "{output:?}");

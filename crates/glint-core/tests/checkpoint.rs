@@ -6,7 +6,11 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 use glam::Vec3;
 use glint_core::desc::*;
-use glint_core::render::{CheckpointError, RenderError, RenderStats, TileStore, render, render_resumable, tile_count};
+use std::collections::BTreeSet;
+
+use glint_core::render::{
+    CheckpointError, RenderError, RenderStats, TileStore, checkpoint_header, render, render_resumable, tile_count,
+};
 use glint_core::scene::{RenderScene, compile};
 
 fn node(shape: ShapeDesc, material: usize, transform: Vec<TransformOp>) -> NodeDesc {
@@ -84,9 +88,10 @@ fn a_resumed_render_is_bit_identical_to_an_uninterrupted_one() {
         let partial = interrupted(&scene, total / 3);
         assert!(!partial.is_empty() && partial.len() < total, "{name}: {} of {total} tiles", partial.len());
         let fingerprint = 0x5eed;
-        let bytes = partial.to_checkpoint(&scene, fingerprint);
+        let bytes = journal(&partial, &scene, fingerprint);
         let restored = TileStore::from_checkpoint(&bytes, &scene, fingerprint).expect("reads back");
-        assert_eq!(restored.len(), partial.len());
+        assert_eq!((restored.store.len(), restored.valid_len), (partial.len(), bytes.len()));
+        let restored = restored.store;
         let traced = AtomicUsize::new(0);
         let resumed = render_resumable(
             &scene,
@@ -100,36 +105,84 @@ fn a_resumed_render_is_bit_identical_to_an_uninterrupted_one() {
         assert_eq!(traced.into_inner(), total - partial.len(), "{name}: the resumed render retraced saved tiles");
         assert_bit_identical(&resumed, &whole);
         // Saving the full store and restoring it gives the image without tracing.
-        let full = TileStore::from_checkpoint(&restored.to_checkpoint(&scene, fingerprint), &scene, fingerprint)
-            .expect("reads back");
+        let full = TileStore::from_checkpoint(&journal(&restored, &scene, fingerprint), &scene, fingerprint)
+            .expect("reads back")
+            .store;
         let again = render_resumable(&scene, &full, &|_, _| panic!("nothing left to trace"), &AtomicBool::new(false))
             .expect("finishes");
         assert_bit_identical(&again, &whole);
     }
 }
 
+/// A checkpoint as the CLI writes it: the header, then records appended save by save.
+fn journal(store: &TileStore, scene: &RenderScene, fingerprint: u64) -> Vec<u8> {
+    let mut bytes = checkpoint_header(scene, fingerprint);
+    bytes.extend(store.new_records(&mut BTreeSet::new()));
+    bytes
+}
+
 #[test]
-fn a_damaged_or_foreign_checkpoint_is_refused() {
+fn appended_saves_write_each_tile_once() {
     let scene = scene(IntegratorDesc::Whitted, None);
-    let store = interrupted(&scene, 5);
-    let bytes = store.to_checkpoint(&scene, 7);
-    assert_eq!(TileStore::from_checkpoint(&bytes, &scene, 8).err(), Some(CheckpointError::OtherScene));
-    assert_eq!(TileStore::from_checkpoint(b"P6\n1 1\n255\n", &scene, 7).err(), Some(CheckpointError::NotACheckpoint));
+    let store = interrupted(&scene, 4);
+    let mut written = BTreeSet::new();
+    let first = store.new_records(&mut written);
+    assert_eq!(written, store.indices());
+    assert!(store.new_records(&mut written).is_empty(), "nothing new, nothing written");
+    let resumed = render_resumable(&scene, &store, &|_, _| {}, &AtomicBool::new(false)).expect("finishes");
+    let mut bytes = checkpoint_header(&scene, 1);
+    bytes.extend(first);
+    bytes.extend(store.new_records(&mut written));
+    assert_eq!(written.len(), tile_count(&scene) as usize);
+    let restored = TileStore::from_checkpoint(&bytes, &scene, 1).expect("reads back").store;
+    let again = render_resumable(&scene, &restored, &|_, _| panic!("all saved"), &AtomicBool::new(false));
+    assert_bit_identical(&again.expect("finishes"), &resumed);
+}
+
+#[test]
+fn a_torn_journal_keeps_the_whole_records_before_the_tear() {
+    let scene = scene(IntegratorDesc::Whitted, None);
+    let whole = render(&scene, &|_, _| {}, &AtomicBool::new(false)).expect("renders");
+    let saved = interrupted(&scene, 6);
+    let bytes = journal(&saved, &scene, 7);
+    let header = checkpoint_header(&scene, 7).len();
+    let mut kept_before = usize::MAX;
+    // A crash can cut the file anywhere after the header, or leave garbage in the tail.
+    for cut in (header + 1..bytes.len()).step_by(211) {
+        let restored = TileStore::from_checkpoint(&bytes[..cut], &scene, 7).expect("the header is whole");
+        assert!(restored.valid_len <= cut && restored.valid_len >= header);
+        assert!(restored.store.len() < saved.len(), "a cut record was kept");
+        assert!(kept_before == usize::MAX || restored.store.len() >= kept_before, "a longer prefix kept fewer tiles");
+        kept_before = restored.store.len();
+        let mut flipped = bytes[..cut].to_vec();
+        flipped[cut - 1] ^= 0x10;
+        let damaged = TileStore::from_checkpoint(&flipped, &scene, 7).expect("the header is whole").store;
+        let resumed = render_resumable(&scene, &damaged, &|_, _| {}, &AtomicBool::new(false)).expect("finishes");
+        assert_bit_identical(&resumed, &whole);
+    }
+}
+
+#[test]
+fn a_checkpoint_for_something_else_or_with_a_damaged_header_is_refused() {
+    let scene = scene(IntegratorDesc::Whitted, None);
+    let bytes = journal(&interrupted(&scene, 5), &scene, 7);
+    let error =
+        |bytes: &[u8], scene: &RenderScene, fingerprint| TileStore::from_checkpoint(bytes, scene, fingerprint).err();
+    assert_eq!(error(&bytes, &scene, 8), Some(CheckpointError::OtherScene));
+    assert_eq!(error(b"P6\n1 1\n255\n", &scene, 7), Some(CheckpointError::NotACheckpoint));
     let mut wider = scene.clone();
     wider.settings.width += 16;
-    assert_eq!(TileStore::from_checkpoint(&bytes, &wider, 7).err(), Some(CheckpointError::OtherScene));
+    assert_eq!(error(&bytes, &wider, 7), Some(CheckpointError::OtherScene));
     let mut no_aovs = scene.clone();
     no_aovs.settings.aovs = false;
-    assert_eq!(TileStore::from_checkpoint(&bytes, &no_aovs, 7).err(), Some(CheckpointError::OtherScene));
-    // Every cut and a flipped byte anywhere are caught (by the checksum or the framing).
-    for cut in (0..bytes.len()).step_by(97) {
-        assert!(TileStore::from_checkpoint(&bytes[..cut], &scene, 7).is_err(), "cut at {cut}");
-    }
-    for at in (0..bytes.len()).step_by(89) {
+    assert_eq!(error(&bytes, &no_aovs, 7), Some(CheckpointError::OtherScene));
+    let header = checkpoint_header(&scene, 7).len();
+    for at in 12..header {
         let mut flipped = bytes.clone();
-        flipped[at] ^= 0x10;
-        assert!(TileStore::from_checkpoint(&flipped, &scene, 7).is_err(), "flip at {at}");
+        flipped[at] ^= 0x01;
+        assert_eq!(error(&flipped, &scene, 7), Some(CheckpointError::Damaged), "flip at {at}");
     }
+    assert_eq!(error(&bytes[..header - 1], &scene, 7), Some(CheckpointError::Damaged));
 }
 
 #[test]

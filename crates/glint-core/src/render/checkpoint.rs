@@ -1,12 +1,14 @@
 //! A render's resumable state: its finished tiles, kept as they finish and saved bit
 //! for bit, so a render killed midway resumes and still gives the uninterrupted image.
 //!
-//! A checkpoint is little-endian binary: a header (magic, version, scene fingerprint,
-//! image and tile counts), each finished tile (index, film sums, sample counts, rays,
-//! non-finite tallies) and an FNV-1a checksum of all that precedes it. The core only
-//! makes and reads the bytes; the caller writes them atomically.
+//! A checkpoint is a journal in little-endian binary: a header (magic, version, image
+//! and tile counts, scene fingerprint, checksum), then one record per finished tile
+//! (length, index, film sums, sample counts, rays, non-finite tallies, checksum),
+//! appended as tiles finish. Each tile is written once, so saving costs the same for a
+//! huge image as for a small one, and a record torn by a crash mid-append only loses
+//! the tiles from it on. The core makes and reads the bytes; the caller writes them.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::sync::Mutex;
 
 use glam::Vec3;
@@ -18,7 +20,8 @@ use crate::integrator::SurfaceId;
 use crate::scene::RenderScene;
 
 const MAGIC: &[u8; 8] = b"GLINTCKP";
-const VERSION: u32 = 1;
+const VERSION: u32 = 2;
+const HEADER_LEN: usize = 8 + 5 * 4 + 8 + 8;
 
 /// One tile's share of the render: everything needed never to trace it again.
 #[derive(Clone, Debug, PartialEq)]
@@ -48,8 +51,31 @@ pub enum CheckpointError {
     Version(u32),
     #[error("made for another scene or other settings; render without --resume to start over")]
     OtherScene,
-    #[error("damaged ({0}); render without --resume to start over")]
-    Damaged(&'static str),
+    #[error("its header is damaged; render without --resume to start over")]
+    Damaged,
+}
+
+/// A checkpoint read back: its tiles, and how many of its bytes held whole records
+/// (a crash mid-append leaves a torn record after them, to be cut off before appending).
+#[derive(Debug)]
+pub struct Restored {
+    pub store: TileStore,
+    pub valid_len: usize,
+}
+
+/// The journal's header, for a render of `scene` whose description and settings hash
+/// to `fingerprint`: the file starts with it, and tile records follow.
+pub fn checkpoint_header(scene: &RenderScene, fingerprint: u64) -> Vec<u8> {
+    let mut out = Vec::with_capacity(HEADER_LEN);
+    out.extend_from_slice(MAGIC);
+    let (width, height, aovs) = (scene.settings.width, scene.settings.height, u32::from(scene.settings.aovs));
+    for word in [VERSION, width, height, tile_count(scene), aovs] {
+        put_u32(&mut out, word);
+    }
+    put_u64(&mut out, fingerprint);
+    let checksum = fnv1a(&out);
+    put_u64(&mut out, checksum);
+    out
 }
 
 impl TileStore {
@@ -80,54 +106,52 @@ impl TileStore {
         self.tiles.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
     }
 
-    /// The finished tiles as checkpoint bytes, for a render of `scene` whose
-    /// description and settings hash to `fingerprint`.
-    pub fn to_checkpoint(&self, scene: &RenderScene, fingerprint: u64) -> Vec<u8> {
-        let tiles = self.lock();
-        let mut out = Vec::with_capacity(64 + tiles.values().map(tile_size_hint).sum::<usize>());
-        out.extend_from_slice(MAGIC);
-        for word in [VERSION, scene.settings.width, scene.settings.height, tile_count(scene), tiles.len() as u32] {
-            put_u32(&mut out, word);
+    /// Journal records of every finished tile not in `written`, which they join: what
+    /// to append to the checkpoint since the last save.
+    pub fn new_records(&self, written: &mut BTreeSet<u32>) -> Vec<u8> {
+        // Copy out under the lock, encode outside it: workers keep inserting meanwhile.
+        let fresh: Vec<(u32, FinishedTile)> = {
+            let tiles = self.lock();
+            tiles.iter().filter(|(i, _)| !written.contains(i)).map(|(&i, t)| (i, t.clone())).collect()
+        };
+        let mut out = Vec::with_capacity(fresh.iter().map(|(_, t)| tile_size_hint(t)).sum());
+        for (index, tile) in fresh {
+            put_record(&mut out, index, &tile);
+            written.insert(index);
         }
-        put_u64(&mut out, fingerprint);
-        for (&index, tile) in tiles.iter() {
-            put_tile(&mut out, index, tile);
-        }
-        let checksum = fnv1a(&out);
-        put_u64(&mut out, checksum);
         out
     }
 
-    /// The tiles a checkpoint holds, checked against `scene` and `fingerprint`: a
-    /// damaged file, or one made for anything else, is refused rather than merged.
-    pub fn from_checkpoint(bytes: &[u8], scene: &RenderScene, fingerprint: u64) -> Result<Self, CheckpointError> {
+    /// Indices of the finished tiles.
+    pub fn indices(&self) -> BTreeSet<u32> {
+        self.lock().keys().copied().collect()
+    }
+
+    /// The tiles a checkpoint holds, checked against `scene` and `fingerprint`: one
+    /// made for anything else, or with a damaged header, is refused; records after a
+    /// torn or damaged one are dropped (those tiles are traced again).
+    pub fn from_checkpoint(bytes: &[u8], scene: &RenderScene, fingerprint: u64) -> Result<Restored, CheckpointError> {
         if bytes.len() < MAGIC.len() + 4 || &bytes[..MAGIC.len()] != MAGIC {
             return Err(CheckpointError::NotACheckpoint);
         }
-        let mut input = Input { bytes: &bytes[MAGIC.len()..] };
-        let version = input.u32()?;
+        let version = u32::from_le_bytes(bytes[MAGIC.len()..MAGIC.len() + 4].try_into().expect("4 bytes"));
         if version != VERSION {
             return Err(CheckpointError::Version(version));
         }
-        let (body, checksum) = bytes.split_at(bytes.len().checked_sub(8).ok_or(CheckpointError::Damaged("cut short"))?);
-        if fnv1a(body) != u64::from_le_bytes(checksum.try_into().expect("8 bytes")) {
-            return Err(CheckpointError::Damaged("its checksum does not match: cut short or overwritten"));
+        let header = bytes.get(..HEADER_LEN).ok_or(CheckpointError::Damaged)?;
+        if fnv1a(&header[..HEADER_LEN - 8]) != u64::from_le_bytes(header[HEADER_LEN - 8..].try_into().expect("8")) {
+            return Err(CheckpointError::Damaged);
         }
-        let mut input = Input { bytes: &body[MAGIC.len() + 4..] };
-        let (width, height, tiles, finished) = (input.u32()?, input.u32()?, input.u32()?, input.u32()?);
-        let same_image = (width, height, tiles) == (scene.settings.width, scene.settings.height, tile_count(scene));
-        if input.u64()? != fingerprint || !same_image {
+        if header != checkpoint_header(scene, fingerprint) {
             return Err(CheckpointError::OtherScene);
         }
         let mut map = BTreeMap::new();
-        for _ in 0..finished {
-            let (index, tile) = take_tile(&mut input, scene)?;
+        let mut valid_len = HEADER_LEN;
+        while let Some((index, tile, len)) = take_record(&bytes[valid_len..], scene) {
             map.insert(index, tile);
+            valid_len += len;
         }
-        if !input.bytes.is_empty() {
-            return Err(CheckpointError::Damaged("bytes after the last tile"));
-        }
-        Ok(Self { tiles: Mutex::new(map) })
+        Ok(Restored { store: Self { tiles: Mutex::new(map) }, valid_len })
     }
 }
 
@@ -150,10 +174,34 @@ fn tile_size_hint(tile: &FinishedTile) -> usize {
     sums.len() * 16 + aovs.len() * 36 + tile.samples.len() * 4 + 64
 }
 
+/// One tile's record: its length, the tile, and the checksum of both.
+fn put_record(out: &mut Vec<u8>, index: u32, tile: &FinishedTile) {
+    let start = out.len();
+    put_u32(out, 0); // the length, filled in below
+    put_tile(out, index, tile);
+    let len = (out.len() - start - 4) as u32;
+    out[start..start + 4].copy_from_slice(&len.to_le_bytes());
+    let checksum = fnv1a(&out[start..]);
+    put_u64(out, checksum);
+}
+
+/// The record at the start of `bytes` and the bytes it took, or `None` when it is
+/// torn, damaged or does not fit `scene`.
+fn take_record(bytes: &[u8], scene: &RenderScene) -> Option<(u32, FinishedTile, usize)> {
+    let len = u32::from_le_bytes(bytes.get(..4)?.try_into().ok()?) as usize;
+    let end = 4usize.checked_add(len)?;
+    let checksum = u64::from_le_bytes(bytes.get(end..end.checked_add(8)?)?.try_into().ok()?);
+    if fnv1a(&bytes[..end]) != checksum {
+        return None;
+    }
+    let mut input = Input { bytes: &bytes[4..end] };
+    let (index, tile) = take_tile(&mut input, scene)?;
+    input.bytes.is_empty().then_some((index, tile, end + 8))
+}
+
 fn put_tile(out: &mut Vec<u8>, index: u32, tile: &FinishedTile) {
     let (sums, weights, aov_sums) = tile.film.raw();
     put_u32(out, index);
-    out.push(u8::from(!aov_sums.is_empty()));
     sums.iter().for_each(|v| put_vec3(out, *v));
     weights.iter().for_each(|&w| put_u32(out, w.to_bits()));
     aov_sums.iter().flatten().for_each(|v| put_vec3(out, *v));
@@ -173,32 +221,21 @@ fn put_tile(out: &mut Vec<u8>, index: u32, tile: &FinishedTile) {
 }
 
 /// One tile, its size taken from the scene (never from the file), so a tile that
-/// does not fit is an error and not a panic or a huge allocation.
-fn take_tile(input: &mut Input, scene: &RenderScene) -> Result<(u32, FinishedTile), CheckpointError> {
-    let index = input.u32()?;
-    if index >= tile_count(scene) {
-        return Err(CheckpointError::Damaged("a tile index beyond the image"));
-    }
+/// does not fit is refused rather than a panic or a huge allocation.
+fn take_tile(input: &mut Input, scene: &RenderScene) -> Option<(u32, FinishedTile)> {
+    let index = input.u32().filter(|&i| i < tile_count(scene))?;
     let ([x0, y0, x1, y1], [fx0, fy0, fx1, fy1]) = tile_rects(scene, index);
-    let has_aovs = match input.u8()? {
-        0 => false,
-        1 => true,
-        _ => return Err(CheckpointError::Damaged("a tile flag that is neither 0 nor 1")),
-    };
-    if has_aovs != scene.settings.aovs {
-        return Err(CheckpointError::OtherScene);
-    }
     let n = ((fx1 - fx0) * (fy1 - fy0)) as usize;
-    let aov_count = if has_aovs { n } else { 0 };
-    let needed = n * 16 + aov_count * 36 + ((x1 - x0) * (y1 - y0)) as usize * 4;
-    if input.bytes.len() < needed {
-        return Err(CheckpointError::Damaged("cut short"));
+    let aov_count = if scene.settings.aovs { n } else { 0 };
+    let pixels = ((x1 - x0) * (y1 - y0)) as usize;
+    if input.bytes.len() < n * 16 + aov_count * 36 + pixels * 4 {
+        return None;
     }
-    let sums = (0..n).map(|_| input.vec3()).collect::<Result<_, _>>()?;
-    let weights = (0..n).map(|_| input.f32()).collect::<Result<_, _>>()?;
+    let sums = (0..n).map(|_| input.vec3()).collect::<Option<_>>()?;
+    let weights = (0..n).map(|_| input.f32()).collect::<Option<_>>()?;
     let aov_sums =
-        (0..aov_count).map(|_| Ok([input.vec3()?, input.vec3()?, input.vec3()?])).collect::<Result<_, _>>()?;
-    let samples = (0..(x1 - x0) * (y1 - y0)).map(|_| input.u32()).collect::<Result<_, _>>()?;
+        (0..aov_count).map(|_| Some([input.vec3()?, input.vec3()?, input.vec3()?])).collect::<Option<_>>()?;
+    let samples = (0..pixels).map(|_| input.u32()).collect::<Option<_>>()?;
     let rays = input.u64()?;
     let mut non_finite = NonFiniteSamples::default();
     for _ in 0..input.u32()? {
@@ -208,9 +245,8 @@ fn take_tile(input: &mut Input, scene: &RenderScene) -> Result<(u32, FinishedTil
         let example_pixel = (input.u32()?, input.u32()?);
         non_finite.add(source, SourceTally { count, example_pixel });
     }
-    let film = FilmTile::from_raw((fx0, fy0, fx1 - fx0, fy1 - fy0), sums, weights, aov_sums)
-        .ok_or(CheckpointError::Damaged("a tile's film of the wrong size"))?;
-    Ok((index, FinishedTile { bounds: (x0, y0, x1, y1), film, samples, rays, non_finite }))
+    let film = FilmTile::from_raw((fx0, fy0, fx1 - fx0, fy1 - fy0), sums, weights, aov_sums)?;
+    Some((index, FinishedTile { bounds: (x0, y0, x1, y1), film, samples, rays, non_finite }))
 }
 
 fn put_u32(out: &mut Vec<u8>, word: u32) {
@@ -231,29 +267,25 @@ struct Input<'a> {
 }
 
 impl Input<'_> {
-    fn take<const N: usize>(&mut self) -> Result<[u8; N], CheckpointError> {
-        let (head, rest) = self.bytes.split_first_chunk::<N>().ok_or(CheckpointError::Damaged("cut short"))?;
+    fn take<const N: usize>(&mut self) -> Option<[u8; N]> {
+        let (head, rest) = self.bytes.split_first_chunk::<N>()?;
         self.bytes = rest;
-        Ok(*head)
+        Some(*head)
     }
 
-    fn u8(&mut self) -> Result<u8, CheckpointError> {
-        Ok(self.take::<1>()?[0])
-    }
-
-    fn u32(&mut self) -> Result<u32, CheckpointError> {
+    fn u32(&mut self) -> Option<u32> {
         self.take().map(u32::from_le_bytes)
     }
 
-    fn u64(&mut self) -> Result<u64, CheckpointError> {
+    fn u64(&mut self) -> Option<u64> {
         self.take().map(u64::from_le_bytes)
     }
 
-    fn f32(&mut self) -> Result<f32, CheckpointError> {
+    fn f32(&mut self) -> Option<f32> {
         self.u32().map(f32::from_bits)
     }
 
-    fn vec3(&mut self) -> Result<Vec3, CheckpointError> {
-        Ok(Vec3::new(self.f32()?, self.f32()?, self.f32()?))
+    fn vec3(&mut self) -> Option<Vec3> {
+        Some(Vec3::new(self.f32()?, self.f32()?, self.f32()?))
     }
 }

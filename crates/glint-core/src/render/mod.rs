@@ -21,7 +21,7 @@ use crate::integrator::{Counters, SurfaceId, TraceContext, path, whitted};
 use crate::math::Ray;
 use crate::sampling::{PathSampler, PixelSampler, Rng, SamplePattern, hash};
 use crate::scene::RenderScene;
-pub use checkpoint::{CheckpointError, FinishedTile, TileStore, max_checkpoint_len};
+pub use checkpoint::{CheckpointError, FinishedTile, Restored, TileStore, checkpoint_header, max_checkpoint_len};
 pub use non_finite::{NonFiniteSamples, SourceTally};
 
 /// Side of the square tiles the image is cut into.
