@@ -5,7 +5,7 @@ use std::borrow::Cow;
 use bytemuck::NoUninit;
 use glam::{Mat4, Vec2, Vec3};
 
-use crate::accel::lanes::{F32x8, Portable};
+use crate::accel::lanes::{Lanes, Portable};
 use crate::accel::{Bvh, Order, WideBvh};
 use crate::bsdf::Bsdf;
 use crate::camera::Camera;
@@ -513,18 +513,21 @@ fn instance_bounds(inst: &Instance, meshes: &[Mesh], tables: &ShapeTables, motio
 impl RenderScene {
     /// The closest hit with `0 < t < t_max`.
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        crate::accel::lanes::on_avx2_or!(self.intersect_avx2(ray, t_max), self.intersect_on::<Portable>(ray, t_max))
+        crate::accel::lanes::on_avx2_or!(
+            |avx| self.intersect_avx2(avx, ray, t_max),
+            self.intersect_on(Portable, ray, t_max)
+        )
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn intersect_avx2(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        self.intersect_on::<crate::accel::lanes::Avx2>(ray, t_max)
+    fn intersect_avx2(&self, avx: crate::accel::lanes::Avx2, ray: &Ray, t_max: f32) -> Option<Hit> {
+        self.intersect_on(avx, ray, t_max)
     }
 
     /// [`RenderScene::intersect`] with the instance BVH traversed on the lanes `L`.
     #[inline(always)]
-    fn intersect_on<L: F32x8>(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+    fn intersect_on<L: Lanes>(&self, lanes: L, ray: &Ray, t_max: f32) -> Option<Hit> {
         let mut best: Option<(u32, crate::shape::ShapeHit)> = None;
         let mut t_max = t_max;
         let mut test = |index: u32, t_max: &mut f32| {
@@ -536,7 +539,7 @@ impl RenderScene {
             }
             false
         };
-        self.bvh.traverse_with::<L, _>(Order::NearestFirst, &self.instances, ray, &mut t_max, &mut test);
+        self.bvh.traverse_with(lanes, Order::NearestFirst, &self.instances, ray, &mut t_max, &mut test);
         for index in self.bounded_count..self.instances.len() {
             test(index as u32, &mut t_max);
         }
@@ -586,18 +589,21 @@ impl RenderScene {
 
     /// Whether anything blocks the segment `0 < t < t_max`; stops at the first hit.
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        crate::accel::lanes::on_avx2_or!(self.occluded_avx2(ray, t_max), self.occluded_on::<Portable>(ray, t_max))
+        crate::accel::lanes::on_avx2_or!(
+            |avx| self.occluded_avx2(avx, ray, t_max),
+            self.occluded_on(Portable, ray, t_max)
+        )
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn occluded_avx2(&self, ray: &Ray, t_max: f32) -> bool {
-        self.occluded_on::<crate::accel::lanes::Avx2>(ray, t_max)
+    fn occluded_avx2(&self, avx: crate::accel::lanes::Avx2, ray: &Ray, t_max: f32) -> bool {
+        self.occluded_on(avx, ray, t_max)
     }
 
     /// [`RenderScene::occluded`] with the instance BVH traversed on the lanes `L`.
     #[inline(always)]
-    fn occluded_on<L: F32x8>(&self, ray: &Ray, t_max: f32) -> bool {
+    fn occluded_on<L: Lanes>(&self, lanes: L, ray: &Ray, t_max: f32) -> bool {
         let hits = |index: u32, t_max: &mut f32| {
             let inst = &self.instances[index as usize];
             let local = self.transform_at(inst, ray.time).ray_to_object(ray);
@@ -607,7 +613,7 @@ impl RenderScene {
             }
         };
         let mut blocked = false;
-        self.bvh.traverse_with::<L, _>(Order::Any, &self.instances, ray, &mut t_max.clone(), |i, t| {
+        self.bvh.traverse_with(lanes, Order::Any, &self.instances, ray, &mut t_max.clone(), |i, t| {
             blocked = hits(i, t);
             blocked
         });

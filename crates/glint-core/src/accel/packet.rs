@@ -10,7 +10,7 @@
 
 use std::mem::MaybeUninit;
 
-use super::lanes::F32x8;
+use super::lanes::{F32x8, Lanes};
 use super::wide::{STACK, SlabRay, WIDTH, WideBvh, insert_farthest_first};
 use crate::math::Ray;
 
@@ -58,8 +58,9 @@ impl WideBvh {
     /// rays in the mask `rays` entered; it may shrink their `t_max` and returns the
     /// rays that are done (an any-hit query's blocked rays), which then leave the packet.
     #[inline(always)]
-    pub fn traverse_packet<L: F32x8, P>(
+    pub fn traverse_packet<L: Lanes, P>(
         &self,
+        lanes: L,
         leaves: &[P],
         rays: &[Ray],
         active: u32,
@@ -71,7 +72,7 @@ impl WideBvh {
         if self.nodes.is_empty() || active == 0 {
             return;
         }
-        let slabs: [SlabRay<L>; PACKET] = std::array::from_fn(|r| SlabRay::new(&rays[r.min(rays.len() - 1)]));
+        let slabs: [SlabRay<L>; PACKET] = std::array::from_fn(|r| SlabRay::new(lanes, &rays[r.min(rays.len() - 1)]));
         let mut done = 0u32;
         // Left uninitialized, as in the single-ray traversal.
         let mut stack = [MaybeUninit::<Entry>::uninit(); STACK];
@@ -107,7 +108,7 @@ impl WideBvh {
             let n = &self.nodes[entry.index as usize];
             // Row r of `entered` (byte r) is the mask of children ray r entered.
             let mut entered = 0u64;
-            let mut child_near = L::splat(f32::INFINITY);
+            let mut child_near = lanes.splat(f32::INFINITY);
             for r in bits(rays) {
                 let (near, mask) = slabs[r].test_or_infinity(n, t_max[r]);
                 entered |= u64::from(mask) << (8 * r);

@@ -11,7 +11,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
 use super::bvh::Bvh;
-use super::lanes::{F32x8, Portable, prefetch};
+use super::lanes::{F32x8, Lanes, Portable, prefetch};
 use crate::math::{Aabb, ROBUST_FAR, Ray};
 
 /// Children per node.
@@ -108,14 +108,15 @@ impl WideBvh {
     /// returns `true` to stop at once (any hit). Portable lanes; hot paths that can use
     /// AVX2 call [`WideBvh::traverse_with`] from an AVX2 function.
     pub fn traverse(&self, ray: &Ray, t_max: &mut f32, visit: impl FnMut(u32, &mut f32) -> bool) {
-        self.traverse_with::<Portable, ()>(Order::NearestFirst, &[], ray, t_max, visit);
+        self.traverse_with::<_, ()>(Portable, Order::NearestFirst, &[], ray, t_max, visit);
     }
 
     /// [`WideBvh::traverse`] on the lanes `L`, children visited in `order`; a leaf's
     /// first primitive in `leaves` (if given) is prefetched when its box is hit.
     #[inline(always)]
-    pub fn traverse_with<L: F32x8, P>(
+    pub fn traverse_with<L: Lanes, P>(
         &self,
+        lanes: L,
         order: Order,
         leaves: &[P],
         ray: &Ray,
@@ -125,7 +126,7 @@ impl WideBvh {
         if self.nodes.is_empty() {
             return;
         }
-        let slab = SlabRay::<L>::new(ray);
+        let slab = SlabRay::new(lanes, ray);
         // (index, count, entry distance); count 0 = inner node. Left uninitialized: zeroing
         // 5 KiB per ray cost more than a slab test.
         let mut stack = [MaybeUninit::<(u32, u32, f32)>::uninit(); STACK];
@@ -233,16 +234,17 @@ pub(super) fn insert_farthest_first<E: Copy>(
 
 /// A ray prepared for slab tests against a node's eight boxes at once.
 #[derive(Clone, Copy)]
-pub(super) struct SlabRay<L> {
-    inv: [L; 3],
-    origin: [L; 3],
+pub(super) struct SlabRay<L: Lanes> {
+    lanes: L,
+    inv: [L::V; 3],
+    origin: [L::V; 3],
     near_plane: [usize; 3],
     far_plane: [usize; 3],
 }
 
-impl<L: F32x8> SlabRay<L> {
+impl<L: Lanes> SlabRay<L> {
     #[inline(always)]
-    pub(super) fn new(ray: &Ray) -> Self {
+    pub(super) fn new(lanes: L, ray: &Ray) -> Self {
         // A zero component gives 1/d = ±∞: the slab distances are then ±∞ (the ray
         // never crosses that plane) or, where the origin lies on the plane, 0·∞ = NaN,
         // which `interval` ignores, so the ray counts as inside the closed slab for all
@@ -254,8 +256,9 @@ impl<L: F32x8> SlabRay<L> {
         // Robust Ray–Box Intersection Algorithm", 2005).
         let near_plane = [0, 1, 2].map(|a| 2 * a + usize::from(inv[a] < 0.0));
         SlabRay {
-            inv: [inv.x, inv.y, inv.z].map(L::splat),
-            origin: [ray.origin.x, ray.origin.y, ray.origin.z].map(L::splat),
+            lanes,
+            inv: [inv.x, inv.y, inv.z].map(|x| lanes.splat(x)),
+            origin: [ray.origin.x, ray.origin.y, ray.origin.z].map(|x| lanes.splat(x)),
             near_plane,
             far_plane: near_plane.map(|p| p ^ 1),
         }
@@ -264,32 +267,33 @@ impl<L: F32x8> SlabRay<L> {
     /// Where the ray enters each of `n`'s boxes and where it leaves them or reaches
     /// `t_max`, whichever is first: a box is entered where the first is ≤ the second.
     #[inline(always)]
-    fn interval(&self, n: &WideNode, t_max: f32) -> (L, L) {
-        let slab = |plane: usize, axis: usize| L::load(&n.bounds[plane]).sub(self.origin[axis]).mul(self.inv[axis]);
+    fn interval(&self, n: &WideNode, t_max: f32) -> (L::V, L::V) {
+        let lanes = self.lanes;
+        let slab = |plane: usize, axis: usize| lanes.load(&n.bounds[plane]).sub(self.origin[axis]).mul(self.inv[axis]);
         let [nx, ny, nz] = self.near_plane;
         let [fx, fy, fz] = self.far_plane;
         // `min` and `max` return their second operand where either is NaN: each slab
         // distance comes first, so a NaN one (origin on that plane, d parallel to it)
         // drops out and the accumulator, which starts finite, never becomes NaN.
-        let near = slab(nx, 0).max(slab(ny, 1).max(slab(nz, 2).max(L::splat(0.0))));
+        let near = slab(nx, 0).max(slab(ny, 1).max(slab(nz, 2).max(lanes.splat(0.0))));
         // Widened as in `Aabb::hit_interval` so flat boxes hit on an edge are kept.
-        let far = slab(fx, 0).min(slab(fy, 1).min(slab(fz, 2).min(L::splat(f32::INFINITY))));
-        (near, far.mul(L::splat(ROBUST_FAR)).min(L::splat(t_max)))
+        let far = slab(fx, 0).min(slab(fy, 1).min(slab(fz, 2).min(lanes.splat(f32::INFINITY))));
+        (near, far.mul(lanes.splat(ROBUST_FAR)).min(lanes.splat(t_max)))
     }
 
     /// The distances at which the ray enters each of `n`'s boxes, and the mask of the
     /// boxes it enters before `t_max`.
     #[inline(always)]
-    pub(super) fn test(&self, n: &WideNode, t_max: f32) -> (L, u32) {
+    pub(super) fn test(&self, n: &WideNode, t_max: f32) -> (L::V, u32) {
         let (near, far) = self.interval(n, t_max);
         (near, near.le_mask(far))
     }
 
     /// As [`SlabRay::test`], with +∞ as the entry distance of the boxes missed.
     #[inline(always)]
-    pub(super) fn test_or_infinity(&self, n: &WideNode, t_max: f32) -> (L, u32) {
+    pub(super) fn test_or_infinity(&self, n: &WideNode, t_max: f32) -> (L::V, u32) {
         let (near, far) = self.interval(n, t_max);
-        (near.select_le(far, near, L::splat(f32::INFINITY)), near.le_mask(far))
+        (near.select_le(far, near, self.lanes.splat(f32::INFINITY)), near.le_mask(far))
     }
 }
 
@@ -379,16 +383,18 @@ mod tests {
             };
             for order in [Order::NearestFirst, Order::Any] {
                 let portable =
-                    collect(&|v| wide.traverse_with::<Portable, ()>(order, &[], &ray, &mut { f32::INFINITY }, v));
+                    collect(&|v| wide.traverse_with::<_, ()>(Portable, order, &[], &ray, &mut { f32::INFINITY }, v));
                 assert_eq!(brute, portable);
                 #[cfg(target_arch = "x86_64")]
-                if super::super::lanes::avx2_or_skip("wide::visits_exactly_the_boxes_the_ray_enters") {
+                if let Some(lanes) =
+                    super::super::lanes::avx2_token_or_skip("wide::visits_exactly_the_boxes_the_ray_enters")
+                {
                     #[target_feature(enable = "avx2")]
-                    fn avx(w: &WideBvh, o: Order, r: &Ray, v: &mut Visit) {
-                        w.traverse_with::<super::super::lanes::Avx2, ()>(o, &[], r, &mut { f32::INFINITY }, v);
+                    fn avx(lanes: crate::accel::lanes::Avx2, w: &WideBvh, o: Order, r: &Ray, v: &mut Visit) {
+                        w.traverse_with::<_, ()>(lanes, o, &[], r, &mut { f32::INFINITY }, v);
                     }
-                    // SAFETY: AVX2 was detected just above.
-                    let found = collect(&|v| unsafe { avx(&wide, order, &ray, v) });
+                    // SAFETY: the token says this CPU has AVX2.
+                    let found = collect(&|v| unsafe { avx(lanes, &wide, order, &ray, v) });
                     assert_eq!(brute, found);
                 }
             }
@@ -407,21 +413,21 @@ mod tests {
         let visits = |order: Order, ray: &Ray| {
             let mut counts = Vec::new();
             let mut n = 0;
-            wide.traverse_with::<Portable, ()>(order, &[], ray, &mut { f32::INFINITY }, |_, _| {
+            wide.traverse_with::<_, ()>(Portable, order, &[], ray, &mut { f32::INFINITY }, |_, _| {
                 n += 1;
                 false
             });
             counts.push(n);
             #[cfg(target_arch = "x86_64")]
-            if super::super::lanes::avx2_or_skip("wide::rays_in_a_face_plane_enter_the_box") {
+            if let Some(lanes) = super::super::lanes::avx2_token_or_skip("wide::rays_in_a_face_plane_enter_the_box") {
                 #[target_feature(enable = "avx2")]
-                fn avx(w: &WideBvh, o: Order, r: &Ray, v: &mut Visit) {
-                    w.traverse_with::<super::super::lanes::Avx2, ()>(o, &[], r, &mut { f32::INFINITY }, v);
+                fn avx(lanes: crate::accel::lanes::Avx2, w: &WideBvh, o: Order, r: &Ray, v: &mut Visit) {
+                    w.traverse_with::<_, ()>(lanes, o, &[], r, &mut { f32::INFINITY }, v);
                 }
                 let mut n = 0;
-                // SAFETY: AVX2 was detected just above.
+                // SAFETY: the token says this CPU has AVX2.
                 unsafe {
-                    avx(&wide, order, ray, &mut |_, _| {
+                    avx(lanes, &wide, order, ray, &mut |_, _| {
                         n += 1;
                         false
                     })

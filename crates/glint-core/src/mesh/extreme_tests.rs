@@ -93,32 +93,32 @@ fn every_path(mesh: &Mesh, rays: &[Ray], t_max: f32) -> Vec<(&'static str, Found
         (
             "portable single",
             Found {
-                closest: rays.iter().map(|r| mesh.intersect_on::<Portable>(r, t_max)).collect(),
-                blocked: mask(&mut rays.iter().map(|r| mesh.occluded_on::<Portable>(r, t_max))),
+                closest: rays.iter().map(|r| mesh.intersect_on(Portable, r, t_max)).collect(),
+                blocked: mask(&mut rays.iter().map(|r| mesh.occluded_on(Portable, r, t_max))),
             },
         ),
         (
             "portable packet",
             packet(
-                &|t, h| mesh.intersect_packet_on::<Portable>(rays, all, t, h),
-                mesh.occluded_packet_on::<Portable>(rays, t_max),
+                &|t, h| mesh.intersect_packet_on(Portable, rays, all, t, h),
+                mesh.occluded_packet_on(Portable, rays, t_max),
             ),
         ),
     ];
     #[cfg(target_arch = "x86_64")]
-    if crate::accel::lanes::avx2_or_skip("mesh::extreme_tests (AVX2 against portable)") {
-        // SAFETY (each block): AVX2 was detected just above.
+    if let Some(avx) = crate::accel::lanes::avx2_token_or_skip("mesh::extreme_tests (AVX2 against portable)") {
+        // SAFETY (each block): the token says this CPU has AVX2.
         paths.push((
             "AVX2 single",
             Found {
-                closest: rays.iter().map(|r| unsafe { mesh.intersect_avx2(r, t_max) }).collect(),
-                blocked: mask(&mut rays.iter().map(|r| unsafe { mesh.occluded_avx2(r, t_max) })),
+                closest: rays.iter().map(|r| unsafe { mesh.intersect_avx2(avx, r, t_max) }).collect(),
+                blocked: mask(&mut rays.iter().map(|r| unsafe { mesh.occluded_avx2(avx, r, t_max) })),
             },
         ));
         paths.push((
             "AVX2 packet",
-            packet(&|t, h| unsafe { mesh.intersect_packet_avx2(rays, all, t, h) }, unsafe {
-                mesh.occluded_packet_avx2(rays, t_max)
+            packet(&|t, h| unsafe { mesh.intersect_packet_avx2(avx, rays, all, t, h) }, unsafe {
+                mesh.occluded_packet_avx2(avx, rays, t_max)
             }),
         ));
     }

@@ -12,7 +12,7 @@ pub mod triangle4;
 
 use glam::{Vec2, Vec3};
 
-use crate::accel::lanes::{F32x8, Portable};
+use crate::accel::lanes::{Lanes, Portable};
 use crate::accel::{Bvh, Order, PACKET, WIDTH, WideBvh, bits};
 use crate::desc::MeshDesc;
 use crate::math::{Aabb, Ray};
@@ -212,12 +212,18 @@ impl Mesh {
 
     /// The closest hit in `(0, t_max)`; `part` is the triangle index.
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<ShapeHit> {
-        crate::accel::lanes::on_avx2_or!(self.intersect_avx2(ray, t_max), self.intersect_on::<Portable>(ray, t_max))
+        crate::accel::lanes::on_avx2_or!(
+            |avx| self.intersect_avx2(avx, ray, t_max),
+            self.intersect_on(Portable, ray, t_max)
+        )
     }
 
     /// Whether any triangle is hit in `(0, t_max)`; stops at the first.
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        crate::accel::lanes::on_avx2_or!(self.occluded_avx2(ray, t_max), self.occluded_on::<Portable>(ray, t_max))
+        crate::accel::lanes::on_avx2_or!(
+            |avx| self.occluded_avx2(avx, ray, t_max),
+            self.occluded_on(Portable, ray, t_max)
+        )
     }
 
     /// [`Mesh::intersect`] for up to [`PACKET`] coherent rays (neighbouring camera
@@ -234,8 +240,8 @@ impl Mesh {
         hits: &mut [Option<ShapeHit>; PACKET],
     ) {
         crate::accel::lanes::on_avx2_or!(
-            self.intersect_packet_avx2(rays, active, t_max, hits),
-            self.intersect_packet_on::<Portable>(rays, active, t_max, hits)
+            |avx| self.intersect_packet_avx2(avx, rays, active, t_max, hits),
+            self.intersect_packet_on(Portable, rays, active, t_max, hits)
         )
     }
 
@@ -243,8 +249,8 @@ impl Mesh {
     /// set where `rays[i]` is blocked.
     pub fn occluded_packet(&self, rays: &[Ray], t_max: f32) -> u32 {
         crate::accel::lanes::on_avx2_or!(
-            self.occluded_packet_avx2(rays, t_max),
-            self.occluded_packet_on::<Portable>(rays, t_max)
+            |avx| self.occluded_packet_avx2(avx, rays, t_max),
+            self.occluded_packet_on(Portable, rays, t_max)
         )
     }
 
@@ -252,18 +258,19 @@ impl Mesh {
     #[target_feature(enable = "avx2")]
     fn intersect_packet_avx2(
         &self,
+        avx: crate::accel::lanes::Avx2,
         rays: &[Ray],
         active: u32,
         t_max: &mut [f32; PACKET],
         hits: &mut [Option<ShapeHit>; PACKET],
     ) {
-        self.intersect_packet_on::<crate::accel::lanes::Avx2>(rays, active, t_max, hits);
+        self.intersect_packet_on(avx, rays, active, t_max, hits);
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn occluded_packet_avx2(&self, rays: &[Ray], t_max: f32) -> u32 {
-        self.occluded_packet_on::<crate::accel::lanes::Avx2>(rays, t_max)
+    fn occluded_packet_avx2(&self, avx: crate::accel::lanes::Avx2, rays: &[Ray], t_max: f32) -> u32 {
+        self.occluded_packet_on(avx, rays, t_max)
     }
 
     /// The packet's watertight rays and the mask of rays that have one.
@@ -279,8 +286,9 @@ impl Mesh {
     }
 
     #[inline(always)]
-    fn intersect_packet_on<L: F32x8>(
+    fn intersect_packet_on<L: Lanes>(
         &self,
+        lanes: L,
         rays: &[Ray],
         active: u32,
         t_max: &mut [f32; PACKET],
@@ -288,7 +296,7 @@ impl Mesh {
     ) {
         assert!(rays.len() <= PACKET, "at most {PACKET} rays");
         let (wrays, valid) = Self::packet_rays(rays);
-        self.bvh.traverse_packet::<L, _>(&self.packets, rays, active & valid, t_max, |packet, in_leaf, t| {
+        self.bvh.traverse_packet(lanes, &self.packets, rays, active & valid, t_max, |packet, in_leaf, t| {
             let packet = &self.packets[packet as usize];
             for r in bits(in_leaf) {
                 if let Some(w) = &wrays[r]
@@ -303,11 +311,11 @@ impl Mesh {
     }
 
     #[inline(always)]
-    fn occluded_packet_on<L: F32x8>(&self, rays: &[Ray], t_max: f32) -> u32 {
+    fn occluded_packet_on<L: Lanes>(&self, lanes: L, rays: &[Ray], t_max: f32) -> u32 {
         assert!(rays.len() <= PACKET, "at most {PACKET} rays");
         let (wrays, active) = Self::packet_rays(rays);
         let mut blocked = 0;
-        self.bvh.traverse_packet::<L, _>(&self.packets, rays, active, &mut [t_max; PACKET], |packet, in_leaf, t| {
+        self.bvh.traverse_packet(lanes, &self.packets, rays, active, &mut [t_max; PACKET], |packet, in_leaf, t| {
             let packet = &self.packets[packet as usize];
             let now = bits(in_leaf)
                 .filter(|&r| wrays[r].as_ref().is_some_and(|w| triangle4::occluded(w, packet, t[r])))
@@ -320,22 +328,22 @@ impl Mesh {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn intersect_avx2(&self, ray: &Ray, t_max: f32) -> Option<ShapeHit> {
-        self.intersect_on::<crate::accel::lanes::Avx2>(ray, t_max)
+    fn intersect_avx2(&self, avx: crate::accel::lanes::Avx2, ray: &Ray, t_max: f32) -> Option<ShapeHit> {
+        self.intersect_on(avx, ray, t_max)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn occluded_avx2(&self, ray: &Ray, t_max: f32) -> bool {
-        self.occluded_on::<crate::accel::lanes::Avx2>(ray, t_max)
+    fn occluded_avx2(&self, avx: crate::accel::lanes::Avx2, ray: &Ray, t_max: f32) -> bool {
+        self.occluded_on(avx, ray, t_max)
     }
 
     #[inline(always)]
-    fn intersect_on<L: F32x8>(&self, ray: &Ray, t_max: f32) -> Option<ShapeHit> {
+    fn intersect_on<L: Lanes>(&self, lanes: L, ray: &Ray, t_max: f32) -> Option<ShapeHit> {
         let wray = WatertightRay4::new(WatertightRay::new(ray)?);
         let mut best = None;
         let mut t_max = t_max;
-        self.bvh.traverse_with::<L, _>(Order::NearestFirst, &self.packets, ray, &mut t_max, |packet, t_max| {
+        self.bvh.traverse_with(lanes, Order::NearestFirst, &self.packets, ray, &mut t_max, |packet, t_max| {
             if let Some((t, tri)) = triangle4::intersect(&wray, &self.packets[packet as usize], *t_max) {
                 *t_max = t;
                 best = Some(ShapeHit { t, part: tri });
@@ -346,10 +354,10 @@ impl Mesh {
     }
 
     #[inline(always)]
-    fn occluded_on<L: F32x8>(&self, ray: &Ray, t_max: f32) -> bool {
+    fn occluded_on<L: Lanes>(&self, lanes: L, ray: &Ray, t_max: f32) -> bool {
         let Some(wray) = WatertightRay::new(ray).map(WatertightRay4::new) else { return false };
         let mut blocked = false;
-        self.bvh.traverse_with::<L, _>(Order::Any, &self.packets, ray, &mut { t_max }, |packet, t_max| {
+        self.bvh.traverse_with(lanes, Order::Any, &self.packets, ray, &mut { t_max }, |packet, t_max| {
             blocked = triangle4::occluded(&wray, &self.packets[packet as usize], *t_max);
             blocked
         });

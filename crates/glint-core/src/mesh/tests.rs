@@ -160,9 +160,9 @@ proptest! {
         prop_assert_eq!(brute, found);
         prop_assert_eq!(brute.is_some(), mesh.occluded(&ray, t_max));
         if crate::accel::lanes::avx2_or_skip("mesh::tests (portable against brute force)") {
-            let portable = mesh.intersect_on::<crate::accel::lanes::Portable>(&ray, t_max).map(|h| h.t);
+            let portable = mesh.intersect_on(crate::accel::lanes::Portable, &ray, t_max).map(|h| h.t);
             prop_assert_eq!(brute, portable);
-            prop_assert_eq!(brute.is_some(), mesh.occluded_on::<crate::accel::lanes::Portable>(&ray, t_max));
+            prop_assert_eq!(brute.is_some(), mesh.occluded_on(crate::accel::lanes::Portable, &ray, t_max));
         }
     }
 }
@@ -193,7 +193,7 @@ proptest! {
         prop_assert_eq!(&single[..], &hits[..rays.len()]);
         prop_assert_eq!(blocked, mesh.occluded_packet(&rays, t_max));
         let mut hits = [None; PACKET];
-        mesh.intersect_packet_on::<crate::accel::lanes::Portable>(&rays, all, &mut [t_max; PACKET], &mut hits);
+        mesh.intersect_packet_on(crate::accel::lanes::Portable, &rays, all, &mut [t_max; PACKET], &mut hits);
         prop_assert_eq!(&single[..], &hits[..rays.len()]);
         // Rays outside the mask are left alone.
         let mut hits = [None; PACKET];
@@ -204,6 +204,6 @@ proptest! {
             prop_assert_eq!(*hit, expected);
             prop_assert_eq!(t[i], expected.map_or(t_max, |h| h.t));
         }
-        prop_assert_eq!(blocked, mesh.occluded_packet_on::<crate::accel::lanes::Portable>(&rays, t_max));
+        prop_assert_eq!(blocked, mesh.occluded_packet_on(crate::accel::lanes::Portable, &rays, t_max));
     }
 }

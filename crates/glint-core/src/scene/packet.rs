@@ -4,7 +4,7 @@
 //! shapes ray by ray.
 
 use super::{Hit, RenderScene};
-use crate::accel::lanes::{F32x8, Portable};
+use crate::accel::lanes::{Lanes, Portable};
 use crate::accel::{PACKET, bits};
 use crate::math::Ray;
 use crate::shape::{ShapeHit, ShapeKind};
@@ -19,20 +19,20 @@ impl RenderScene {
     /// is reported may differ, as it may between any two traversal orders.
     pub fn intersect_packet(&self, rays: &[Ray], hits: &mut [Option<Hit>]) {
         crate::accel::lanes::on_avx2_or!(
-            self.intersect_packet_avx2(rays, hits),
-            self.intersect_packet_on::<Portable>(rays, hits)
+            |avx| self.intersect_packet_avx2(avx, rays, hits),
+            self.intersect_packet_on(Portable, rays, hits)
         )
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn intersect_packet_avx2(&self, rays: &[Ray], hits: &mut [Option<Hit>]) {
-        self.intersect_packet_on::<crate::accel::lanes::Avx2>(rays, hits);
+    fn intersect_packet_avx2(&self, avx: crate::accel::lanes::Avx2, rays: &[Ray], hits: &mut [Option<Hit>]) {
+        self.intersect_packet_on(avx, rays, hits);
     }
 
     /// [`RenderScene::intersect_packet`] with the instance BVH traversed on the lanes `L`.
     #[inline(always)]
-    fn intersect_packet_on<L: F32x8>(&self, rays: &[Ray], hits: &mut [Option<Hit>]) {
+    fn intersect_packet_on<L: Lanes>(&self, lanes: L, rays: &[Ray], hits: &mut [Option<Hit>]) {
         assert!(rays.len() <= PACKET && hits.len() >= rays.len(), "at most {PACKET} rays, one hit slot each");
         if rays.is_empty() {
             return;
@@ -40,7 +40,7 @@ impl RenderScene {
         let all = (1u32 << rays.len()) - 1;
         let mut t_max = [f32::INFINITY; PACKET];
         let mut closest: Closest = [None; PACKET];
-        self.bvh.traverse_packet::<L, _>(&self.instances, rays, all, &mut t_max, |index, in_leaf, t_max| {
+        self.bvh.traverse_packet(lanes, &self.instances, rays, all, &mut t_max, |index, in_leaf, t_max| {
             self.intersect_instance(index, rays, in_leaf, t_max, &mut closest);
             0
         });
@@ -137,15 +137,15 @@ mod tests {
             let mut dispatched = [None; PACKET];
             let mut portable = [None; PACKET];
             scene.intersect_packet(&rays, &mut dispatched);
-            scene.intersect_packet_on::<Portable>(&rays, &mut portable);
+            scene.intersect_packet_on(Portable, &rays, &mut portable);
             for (r, ray) in rays.iter().enumerate() {
                 let single = scene.intersect(ray, f32::INFINITY);
                 // Packets against single rays, on each path.
                 assert_eq!(key(single), key(dispatched[r]));
-                assert_eq!(key(scene.intersect_on::<Portable>(ray, f32::INFINITY)), key(portable[r]));
+                assert_eq!(key(scene.intersect_on(Portable, ray, f32::INFINITY)), key(portable[r]));
                 if avx2 {
-                    assert_eq!(key(single), key(scene.intersect_on::<Portable>(ray, f32::INFINITY)));
-                    assert_eq!(scene.occluded(ray, 100.0), scene.occluded_on::<Portable>(ray, 100.0));
+                    assert_eq!(key(single), key(scene.intersect_on(Portable, ray, f32::INFINITY)));
+                    assert_eq!(scene.occluded(ray, 100.0), scene.occluded_on(Portable, ray, 100.0));
                 }
                 assert_eq!(single.is_some_and(|h| h.t < 100.0), scene.occluded(ray, 100.0));
                 hit += usize::from(single.is_some());
