@@ -101,6 +101,14 @@ impl TileStore {
         f(&mut self.lock().values())
     }
 
+    /// Runs `f` over the finished tiles and their indices, in index order.
+    pub(super) fn with_indexed_tiles<R>(
+        &self,
+        f: impl FnOnce(&mut dyn Iterator<Item = (u32, &FinishedTile)>) -> R,
+    ) -> R {
+        f(&mut self.lock().iter().map(|(&i, t)| (i, t)))
+    }
+
     fn lock(&self) -> std::sync::MutexGuard<'_, BTreeMap<u32, FinishedTile>> {
         // A worker that panicked mid-insert leaves the map whole: insert is one call.
         self.tiles.lock().unwrap_or_else(|poisoned| poisoned.into_inner())

@@ -7,6 +7,7 @@
 
 mod checkpoint;
 mod non_finite;
+mod parts;
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
@@ -23,6 +24,7 @@ use crate::sampling::{PathSampler, PixelSampler, Rng, SamplePattern, hash};
 use crate::scene::RenderScene;
 pub use checkpoint::{CheckpointError, FinishedTile, Restored, TileStore, checkpoint_header, max_checkpoint_len};
 pub use non_finite::{NonFiniteSamples, SourceTally};
+pub use parts::{Part, PartError, PartialFilm, merge_parts, render_part};
 
 /// Side of the square tiles the image is cut into.
 pub const TILE_SIZE: u32 = 16;
@@ -68,19 +70,32 @@ pub fn render_resumable(
     progress: &(dyn Fn(usize, usize) + Sync),
     cancel: &AtomicBool,
 ) -> Result<(Image, RenderStats), RenderError> {
-    let total = tile_count(scene);
-    let done = AtomicUsize::new(store.len());
-    (0..total).into_par_iter().for_each(|index| {
+    let all: Vec<u32> = (0..tile_count(scene)).collect();
+    render_tiles(scene, store, &all, progress, cancel)?;
+    Ok(store.with_tiles(|tiles| merge_tiles(scene, tiles)))
+}
+
+/// Traces the tiles of `tiles` that `store` lacks into it, on the current rayon pool;
+/// `progress(done, total)` counts the tiles of `tiles`.
+fn render_tiles(
+    scene: &RenderScene,
+    store: &TileStore,
+    tiles: &[u32],
+    progress: &(dyn Fn(usize, usize) + Sync),
+    cancel: &AtomicBool,
+) -> Result<(), RenderError> {
+    let done = AtomicUsize::new(tiles.iter().filter(|&&t| store.contains(t)).count());
+    tiles.par_iter().for_each(|&index| {
         if cancel.load(Ordering::Relaxed) || store.contains(index) {
             return;
         }
         store.insert(index, render_tile(scene, index));
-        progress(done.fetch_add(1, Ordering::Relaxed) + 1, total as usize);
+        progress(done.fetch_add(1, Ordering::Relaxed) + 1, tiles.len());
     });
-    if cancel.load(Ordering::Relaxed) || store.len() < total as usize {
+    if cancel.load(Ordering::Relaxed) || tiles.iter().any(|&t| !store.contains(t)) {
         return Err(RenderError::Cancelled);
     }
-    Ok(store.with_tiles(|tiles| merge_tiles(scene, tiles)))
+    Ok(())
 }
 
 /// The image and its statistics from every tile's share, merged in tile order.
