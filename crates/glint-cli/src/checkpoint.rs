@@ -157,8 +157,9 @@ impl Checkpointer {
 }
 
 /// Everything that decides the image: the scene after the command line's changes, the
-/// AOVs kept, and this glint's version (another build may trace differently).
-fn fingerprint(scene: &RenderScene, desc: &SceneDesc) -> u64 {
+/// AOVs kept, and this glint's version (another build may trace differently). Parts and
+/// checkpoints carry it, so only pieces of one render are put together.
+pub fn fingerprint(scene: &RenderScene, desc: &SceneDesc) -> u64 {
     let mut hash = Fnv1a::default();
     hash.update(&desc.fingerprint().to_le_bytes());
     hash.update(&[u8::from(scene.settings.aovs)]);

@@ -7,6 +7,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use clap::{Parser, Subcommand, ValueEnum};
+mod parts;
+
 use glint_cli::checkpoint::{Checkpointer, DEFAULT_INTERVAL_SECONDS};
 use glint_core::desc::{AdaptiveDesc, FilterKind, IntegratorDesc, PathDesc, SamplePattern, SamplerKind, SceneDesc};
 use glint_core::film::Image;
@@ -106,6 +108,25 @@ enum Command {
     Convert(ConvertArgs),
     /// Time the mesh BVH: build, and closest/any-hit rays per second for camera and random rays.
     Bench(BenchArgs),
+    /// Merge the parts of a render (files of `glint render --part I/N`) into its image: the
+    /// very image one `glint render` of the scene writes, bit for bit.
+    Merge(MergeArgs),
+}
+
+#[derive(clap::Args)]
+struct MergeArgs {
+    /// The parts, all N of them, in any order (e.g. part_*.exr).
+    #[arg(required = true, num_args = 1..)]
+    parts: Vec<PathBuf>,
+    /// Output image; the format follows the extension (.png, .exr, .ppm) unless --format is given.
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Output encoding, overriding the extension.
+    #[arg(long, value_enum)]
+    format: Option<FormatArg>,
+    /// Print no summary.
+    #[arg(short, long)]
+    quiet: bool,
 }
 
 #[derive(clap::Args)]
@@ -227,6 +248,12 @@ struct RenderArgs {
     /// goes on into FILE, or into --checkpoint's file when given.
     #[arg(long, value_name = "FILE")]
     resume: Option<PathBuf>,
+    /// Render only part I of N (counted from 0) into an .exr file of weighted sums, for a
+    /// batch scheduler (a Slurm array, a Kubernetes indexed Job): part I traces every N-th
+    /// tile. `glint merge` puts the N files together into exactly the image one render
+    /// writes. CPU only.
+    #[arg(long, value_name = "I/N", value_parser = parse_part_arg)]
+    part: Option<(u32, u32)>,
     /// Worker threads; 0 or absent uses every core. The image is identical for any count.
     #[arg(short = 'j', long, default_value_t = 0)]
     threads: usize,
@@ -287,6 +314,13 @@ enum FilterArg {
     Lanczos,
 }
 
+/// `I/N` for --part.
+fn parse_part_arg(text: &str) -> Result<(u32, u32), String> {
+    glint_scene::part_file::parse_part(text)
+        .map(|p| (p.index, p.count))
+        .ok_or_else(|| format!("expected I/N with 0 <= I < N, such as 0/4, found '{text}'"))
+}
+
 /// Seconds for --checkpoint-every: a positive number, fractions allowed.
 fn parse_interval(text: &str) -> Result<f64, String> {
     match text.trim().parse::<f64>() {
@@ -332,6 +366,7 @@ fn main() -> ExitCode {
         Command::Render(args) => run_render(&args),
         Command::Convert(args) => run_convert(&args),
         Command::Bench(args) => run_bench(&args),
+        Command::Merge(args) => parts::run_merge(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -358,18 +393,7 @@ impl<E: std::fmt::Display> From<E> for Failure {
 }
 
 fn run_render(args: &RenderArgs) -> Result<(), Failure> {
-    let format = match args.format {
-        Some(FormatArg::Png) => OutputFormat::Png8,
-        Some(FormatArg::Png16) => OutputFormat::Png16,
-        Some(FormatArg::Exr) => OutputFormat::Exr,
-        Some(FormatArg::Ppm) => OutputFormat::Ppm,
-        None => OutputFormat::from_path(&args.output).ok_or_else(|| {
-            format!(
-                "cannot tell the image format of '{}': use .png, .exr or .ppm, or pass --format",
-                args.output.display()
-            )
-        })?,
-    };
+    let format = output_format(args.format, &args.output)?;
     if !args.aov.is_empty() && format != OutputFormat::Exr {
         return Err(Failure::Message(format!(
             "--aov writes extra layers into an OpenEXR file, but '{}' is not one: use an .exr output",
@@ -385,6 +409,9 @@ fn run_render(args: &RenderArgs) -> Result<(), Failure> {
     let handler_flag = Arc::clone(&cancel);
     ctrlc::set_handler(move || handler_flag.store(true, Ordering::Relaxed))?;
 
+    if let Some(part) = args.part {
+        return parts::run_part(args, part, format, &desc, &scene, &cancel);
+    }
     // Checkpoints hold the CPU's tiles: `auto` means the CPU for them.
     let checkpointing = args.checkpoint.is_some() || args.resume.is_some();
     let device = match args.device {
@@ -467,7 +494,7 @@ fn run_render(args: &RenderArgs) -> Result<(), Failure> {
     if let Some(checkpointer) = &checkpointer {
         checkpointer.remove();
     }
-    report_non_finite(&stats.non_finite, &scene, &desc);
+    report_non_finite(&stats.non_finite, Some((&scene, &desc)));
     if let Some(path) = &args.aov_samples {
         write_image(
             &sample_count_image(&image, &stats.samples_per_pixel),
@@ -508,7 +535,8 @@ fn checkpointer(
 
 /// Says once, after the render, how many samples were NaN or infinite and which
 /// surfaces produced them: those samples were left out of the image.
-fn report_non_finite(non_finite: &NonFiniteSamples, scene: &glint_core::scene::RenderScene, desc: &SceneDesc) {
+/// `scene` names the objects and materials; without it (merging parts) they are numbered.
+fn report_non_finite(non_finite: &NonFiniteSamples, scene: Option<(&glint_core::scene::RenderScene, &SceneDesc)>) {
     if non_finite.is_empty() {
         return;
     }
@@ -520,12 +548,14 @@ fn report_non_finite(non_finite: &NonFiniteSamples, scene: &glint_core::scene::R
         let (x, y) = tally.example_pixel;
         let from = match source {
             Some(surface) => {
-                let kind = format!("{:?}", scene.instances[surface.instance as usize].shape.kind).to_lowercase();
-                let material = match desc.materials.get(surface.material as usize).map(|m| m.name.as_str()) {
+                let instance = scene.and_then(|(scene, _)| scene.instances.get(surface.instance as usize));
+                let kind = instance.map_or("an object".into(), |i| format!("a {:?}", i.shape.kind).to_lowercase());
+                let name = scene.and_then(|(_, desc)| desc.materials.get(surface.material as usize));
+                let material = match name.map(|m| m.name.as_str()) {
                     Some(name) if !name.is_empty() => format!("material '{name}'"),
                     _ => format!("material #{}", surface.material),
                 };
-                format!("a {kind} (object #{}) with {material}", surface.instance)
+                format!("{kind} (object #{}) with {material}", surface.instance)
             }
             None => "the background or environment".to_string(),
         };
@@ -749,6 +779,19 @@ fn apply_overrides(desc: &mut SceneDesc, args: &RenderArgs) -> Result<(), String
         };
     }
     Ok(())
+}
+
+/// The encoding `--format` asks for, else the one `path`'s extension names.
+fn output_format(format: Option<FormatArg>, path: &Path) -> Result<OutputFormat, Failure> {
+    Ok(match format {
+        Some(FormatArg::Png) => OutputFormat::Png8,
+        Some(FormatArg::Png16) => OutputFormat::Png16,
+        Some(FormatArg::Exr) => OutputFormat::Exr,
+        Some(FormatArg::Ppm) => OutputFormat::Ppm,
+        None => OutputFormat::from_path(path).ok_or_else(|| {
+            format!("cannot tell the image format of '{}': use .png, .exr or .ppm, or pass --format", path.display())
+        })?,
+    })
 }
 
 fn progress_bar(quiet: bool) -> ProgressBar {

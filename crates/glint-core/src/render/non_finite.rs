@@ -34,7 +34,9 @@ impl NonFiniteSamples {
         }
     }
 
-    pub(super) fn add(&mut self, source: Option<SurfaceId>, tally: SourceTally) {
+    /// Adds `tally` to `source`'s (a saved tally read back); the example pixel already
+    /// kept stays.
+    pub fn add(&mut self, source: Option<SurfaceId>, tally: SourceTally) {
         self.by_source.entry(source).and_modify(|mine| mine.count += tally.count).or_insert(tally);
     }
 
