@@ -103,7 +103,7 @@ fn input_limits(changes: &[(LimitKind, u64)]) -> InputLimits {
 #[derive(Subcommand)]
 enum Command {
     /// Render a scene file (or the built-in default scene) to an image.
-    Render(RenderArgs),
+    Render(Box<RenderArgs>),
     /// Write a scene file of any format as a native .glint file that renders the same image.
     Convert(ConvertArgs),
     /// Time the mesh BVH: build, and closest/any-hit rays per second for camera and random rays.
