@@ -95,6 +95,16 @@ pub struct RenderSettings {
     /// is not a square takes Sobol positions).
     #[serde(default)]
     pub spp: Option<u32>,
+    /// Frames per second of an animation: how keys given in seconds become frames.
+    #[serde(default = "default_fps")]
+    pub fps: f32,
+    /// The frames an animation spans, first and last (both rendered), when it says.
+    #[serde(default)]
+    pub frames: Option<[u32; 2]>,
+}
+
+fn default_fps() -> f32 {
+    24.0
 }
 
 /// A reconstruction filter and its radius in pixels.
@@ -174,6 +184,8 @@ impl Default for RenderSettings {
             seed: 0,
             integrator: IntegratorDesc::Whitted,
             spp: None,
+            fps: default_fps(),
+            frames: None,
         }
     }
 }

@@ -75,6 +75,16 @@ fn path_ext(path: &Path) -> String {
 ///
 /// A [`SceneError`] naming the file, line and column of the first problem.
 pub fn load_any(path: &Path) -> Result<Loaded, SceneError> {
+    load_any_at(path, 0.0)
+}
+
+/// [`load_any`] with a `.glint` scene's keyed properties taken at `frame` (other
+/// formats have no animation: every frame is the same scene).
+///
+/// # Errors
+///
+/// As [`load_any`].
+pub fn load_any_at(path: &Path, frame: f64) -> Result<Loaded, SceneError> {
     // Mesh files may be binary: decided by extension, before reading the file as text.
     if crate::mesh::MeshFormat::from_path(path).is_some() {
         let (scene, warnings) = load_mesh_scene(path)?;
@@ -84,7 +94,7 @@ pub fn load_any(path: &Path) -> Result<Loaded, SceneError> {
     let text = crate::input::read_text(path, InputKind::Scene)?;
     let format = detect(&text, path);
     let (scene, warnings) = match format {
-        SceneFormat::Native => (crate::native::load_text(path, &text)?, Vec::new()),
+        SceneFormat::Native => (crate::native::load_text(path, &text, frame)?, Vec::new()),
         SceneFormat::ChallengeYaml => crate::challenge::parse_challenge(&text, &name)?,
         SceneFormat::Mesh => load_mesh_scene(path)?,
         SceneFormat::Mitsuba => {

@@ -19,6 +19,6 @@ pub mod part_file;
 pub mod source;
 pub mod texture_io;
 
-pub use detect::{Loaded, SceneFormat, detect, load_any};
+pub use detect::{Loaded, SceneFormat, detect, load_any, load_any_at};
 pub use error::{SceneError, SceneErrorKind};
-pub use native::{DEFAULT_SCENE_SOURCE, default_scene, load_scene, parse_scene};
+pub use native::{DEFAULT_SCENE_SOURCE, default_scene, load_scene, parse_scene, parse_scene_at};

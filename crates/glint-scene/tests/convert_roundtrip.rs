@@ -120,6 +120,8 @@ fn everything(texture: &Path) -> SceneDesc {
         seed: 77,
         integrator: IntegratorDesc::Path(PathDesc { max_depth: 13, rr_depth: 7, sampler: SamplerKind::Independent }),
         spp: Some(37),
+        fps: 30.0,
+        frames: Some([3, 90]),
     };
     let camera = CameraDesc {
         eye: Vec3::new(0.3, 2.0, 9.5),

@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 
 use glint_core::desc::{LightDesc, MaterialDesc, NodeDesc, SceneDesc};
 
+use super::animation::{Clock, at_clock};
 use super::args::{self, Result};
 use super::lexer::{Pos, tokenize};
 use super::tree::{Node, parse};
@@ -137,15 +138,22 @@ pub struct Builder {
     environment_at: Option<String>,
     /// The files being read, outermost first: canonical path (if any) and display name.
     include_stack: Vec<(Option<PathBuf>, String)>,
+    /// The moment of the animation keyed properties are read at.
+    pub clock: Clock,
 }
 
 impl Builder {
+    /// A builder that reads keyed properties at `clock`.
+    pub fn at(clock: Clock) -> Self {
+        Self { clock, ..Self::default() }
+    }
+
     /// Lexes, parses and builds one file's text into the scene; `canonical` identifies the
     /// file for include-cycle detection (None for text that is not a file).
     pub fn file(&mut self, src: &Source, text: &str, canonical: Option<PathBuf>) -> Result<()> {
         let syntax = |e: super::lexer::SyntaxError| src.error(SceneErrorKind::Syntax, e.pos, e.message);
         let tokens = tokenize(text).map_err(syntax)?;
-        let nodes = parse(&tokens).map_err(syntax)?;
+        let nodes = at_clock(src, &parse(&tokens).map_err(syntax)?, self.clock)?;
         self.include_stack.push((canonical, src.name.clone()));
         let result = self.top_level(src, &nodes);
         self.include_stack.pop();
@@ -164,7 +172,7 @@ impl Builder {
             match node.name.as_str() {
                 "settings" => {
                     Self::only_once(src, node, &mut self.settings_at)?;
-                    settings::settings(src, node, &mut self.desc.settings)?;
+                    settings::settings(src, node, &mut self.desc.settings, self.clock.fps)?;
                 }
                 "camera" => {
                     Self::only_once(src, node, &mut self.camera_at)?;

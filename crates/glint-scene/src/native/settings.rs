@@ -20,7 +20,9 @@ pub const MAX_DEPTH: u32 = 64;
 /// Most samples per pixel accepted for `spp` (2²⁰).
 pub const MAX_SPP: u32 = 1 << 20;
 
-const SETTINGS_PROPERTIES: [&str; 20] = [
+const SETTINGS_PROPERTIES: [&str; 22] = [
+    "fps",
+    "frames",
     "width",
     "height",
     "samples",
@@ -45,8 +47,13 @@ const SETTINGS_PROPERTIES: [&str; 20] = [
 
 const CAMERA_PROPERTIES: [&str; 8] = ["eye", "look_at", "look", "up", "fov", "fov_axis", "aperture", "focal_distance"];
 
+/// Most frames an animation may span.
+pub const MAX_FRAME: u32 = 1_000_000;
+
 /// Applies a `settings` block on top of `settings` (which starts at the defaults).
-pub fn settings(src: &Source, node: &Node, settings: &mut RenderSettings) -> Result<()> {
+/// `clock_fps` is the rate the scene's keys were read at (from the main file's
+/// settings): an `fps` here must agree with it.
+pub fn settings(src: &Source, node: &Node, settings: &mut RenderSettings, clock_fps: f64) -> Result<()> {
     args::no_values(src, node)?;
     let mut seen = Seen::default();
     let mut rest = node.children().iter();
@@ -59,6 +66,16 @@ pub fn settings(src: &Source, node: &Node, settings: &mut RenderSettings) -> Res
                 settings.integrator = integrator::integrator(src, kind)?;
             }
             "spp" => settings.spp = Some(args::whole(src, prop, 1, MAX_SPP)?),
+            "fps" => {
+                settings.fps = args::number_where(src, prop, "above 0 and at most 1000", |x| x > 0.0 && x <= 1000.0)?;
+                if f64::from(settings.fps) != clock_fps {
+                    return Err(src.invalid(
+                        prop.pos(),
+                        "'fps' must be in the settings of the main scene file, where keys in seconds are read",
+                    ));
+                }
+            }
+            "frames" => settings.frames = Some(frames(src, prop)?),
             "width" => settings.width = args::whole(src, prop, 1, MAX_IMAGE_SIDE)?,
             "height" => settings.height = args::whole(src, prop, 1, MAX_IMAGE_SIDE)?,
             "samples" => {
@@ -101,6 +118,19 @@ pub fn settings(src: &Source, node: &Node, settings: &mut RenderSettings) -> Res
         }
     }
     Ok(())
+}
+
+/// `frames [first last]`: whole frame numbers, first ≤ last.
+fn frames(src: &Source, prop: &Node) -> Result<[u32; 2]> {
+    let numbers = args::numbers(src, prop, &[2])?;
+    let whole = |x: f32| x.fract() == 0.0 && (0.0..=MAX_FRAME as f32).contains(&x);
+    match numbers.as_slice() {
+        &[first, last] if whole(first) && whole(last) && first <= last => Ok([first as u32, last as u32]),
+        _ => Err(src.invalid(
+            args::value_pos(prop),
+            format!("'frames' takes [first last]: whole frame numbers from 0 to {MAX_FRAME}, first <= last"),
+        )),
+    }
 }
 
 /// `pattern "grid"|"corners"|"jittered"|"sobol"`.

@@ -159,6 +159,12 @@ impl Writer {
             }
             lines.push(format!("spp {spp}"));
         }
+        if s.fps != defaults_fps() {
+            lines.push(format!("fps {}", num(s.fps, "fps")?));
+        }
+        if let Some([first, last]) = s.frames {
+            lines.push(format!("frames [{first} {last}]"));
+        }
         if let Some(a) = s.adaptive {
             lines.push(format!(
                 "adaptive [{} {} {}]",
@@ -192,6 +198,8 @@ impl Writer {
             seed: defaults.seed,
             integrator: defaults.integrator,
             spp: defaults.spp,
+            fps: defaults.fps,
+            frames: defaults.frames,
             ..s.clone()
         };
         if rest != defaults {
@@ -950,4 +958,9 @@ mod tests {
         assert_eq!(rel, Path::new("../scenes/tex/a.png"));
         assert_eq!(relative_path(Path::new("/a/b.png"), Path::new("/c")), None);
     }
+}
+
+/// Frames per second when a scene does not say.
+fn defaults_fps() -> f32 {
+    RenderSettings::default().fps
 }
