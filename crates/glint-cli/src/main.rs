@@ -7,6 +7,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use clap::{Parser, Subcommand, ValueEnum};
+mod frames;
 mod parts;
 
 use glint_cli::checkpoint::{Checkpointer, DEFAULT_INTERVAL_SECONDS};
@@ -254,6 +255,12 @@ struct RenderArgs {
     /// writes. CPU only.
     #[arg(long, value_name = "I/N", value_parser = parse_part_arg)]
     part: Option<(u32, u32)>,
+    /// Render an animation's frames: `A..B` (both included) or one frame `N`. The output
+    /// names each frame's file with a run of `#`, replaced by the frame number padded with
+    /// zeros (`-o out_####.png` writes out_0000.png, out_0001.png, …). Without it, an
+    /// output with `#` renders the frames the scene's `settings { frames [A B] }` gives.
+    #[arg(long, value_name = "A..B", value_parser = frames::parse_range)]
+    frames: Option<(u32, u32)>,
     /// Worker threads; 0 or absent uses every core. The image is identical for any count.
     #[arg(short = 'j', long, default_value_t = 0)]
     threads: usize,
@@ -393,24 +400,31 @@ impl<E: std::fmt::Display> From<E> for Failure {
 }
 
 fn run_render(args: &RenderArgs) -> Result<(), Failure> {
-    let format = output_format(args.format, &args.output)?;
+    let cancel = Arc::new(AtomicBool::new(false));
+    let handler_flag = Arc::clone(&cancel);
+    ctrlc::set_handler(move || handler_flag.store(true, Ordering::Relaxed))?;
+    let first = load(args.scene.as_deref(), 0.0)?;
+    match frames::plan(args, &first)? {
+        None => render_scene_to(args, first, &args.output, &cancel),
+        Some(frames) => frames::render_all(args, &frames, &cancel),
+    }
+}
+
+/// Renders `desc` with the command line's settings and writes the image to `output`.
+fn render_scene_to(args: &RenderArgs, mut desc: SceneDesc, output: &Path, cancel: &AtomicBool) -> Result<(), Failure> {
+    let format = output_format(args.format, output)?;
     if !args.aov.is_empty() && format != OutputFormat::Exr {
         return Err(Failure::Message(format!(
             "--aov writes extra layers into an OpenEXR file, but '{}' is not one: use an .exr output",
-            args.output.display()
+            output.display()
         )));
     }
-    let mut desc = load(args.scene.as_deref())?;
     apply_overrides(&mut desc, args)?;
     let mut scene = compile(&desc)?;
     scene.settings.aovs = !args.aov.is_empty();
 
-    let cancel = Arc::new(AtomicBool::new(false));
-    let handler_flag = Arc::clone(&cancel);
-    ctrlc::set_handler(move || handler_flag.store(true, Ordering::Relaxed))?;
-
     if let Some(part) = args.part {
-        return parts::run_part(args, part, format, &desc, &scene, &cancel);
+        return parts::run_part(args, part, format, &desc, &scene, cancel);
     }
     // Checkpoints hold the CPU's tiles: `auto` means the CPU for them.
     let checkpointing = args.checkpoint.is_some() || args.resume.is_some();
@@ -422,7 +436,7 @@ fn run_render(args: &RenderArgs) -> Result<(), Failure> {
         device => device,
     };
     if let Some(gpu) = choose_gpu(device, &scene, args.quiet)? {
-        return render_on_gpu(&gpu, &scene, args, format, desc.settings.output_transfer, &cancel);
+        return render_on_gpu(&gpu, &scene, args, (output, format), desc.settings.output_transfer, cancel);
     }
     let checkpointer = checkpointer(args, &desc, &scene)?;
     if let Some(saved) = checkpointer.as_ref().map(|c| c.store().len()).filter(|&n| n > 0 && !args.quiet) {
@@ -438,7 +452,7 @@ fn run_render(args: &RenderArgs) -> Result<(), Failure> {
     let mut preview_error = None;
     let mut on_pass = |image: &Image, block: u32| {
         if args.progressive && block > 1 && preview_error.is_none() {
-            preview_error = write_image(image, &args.output, format, transfer).err();
+            preview_error = write_image(image, output, format, transfer).err();
         }
     };
     let first_block = if args.progressive { 16 } else { 1 };
@@ -455,7 +469,7 @@ fn run_render(args: &RenderArgs) -> Result<(), Failure> {
                     bar.set_length(total as u64);
                     bar.set_position(done as u64);
                 },
-                &cancel,
+                cancel,
             )
         })
     };
@@ -487,9 +501,9 @@ fn run_render(args: &RenderArgs) -> Result<(), Failure> {
                     AovArg::Depth => ("depth", &["Z"][..], &aovs.depth),
                 });
             }
-            write_exr_layers(&args.output, &image, &layers)?;
+            write_exr_layers(output, &image, &layers)?;
         }
-        None => write_image(&image, &args.output, format, transfer)?,
+        None => write_image(&image, output, format, transfer)?,
     }
     if let Some(checkpointer) = &checkpointer {
         checkpointer.remove();
@@ -508,7 +522,7 @@ fn run_render(args: &RenderArgs) -> Result<(), Failure> {
         let mean_spp = stats.samples_per_pixel.iter().map(|&c| c as f64).sum::<f64>() / (w as f64 * h as f64);
         eprintln!(
             "wrote {} ({w}x{h}, {:.1} spp) in {seconds:.2} s on {} threads: {} rays, {:.2} Mrays/s{}",
-            args.output.display(),
+            output.display(),
             mean_spp,
             pool.current_num_threads(),
             stats.rays,
@@ -609,7 +623,7 @@ fn render_on_gpu(
     gpu: &glint_gpu::Gpu,
     scene: &glint_core::scene::RenderScene,
     args: &RenderArgs,
-    format: OutputFormat,
+    (output, format): (&Path, OutputFormat),
     transfer: Transfer,
     cancel: &AtomicBool,
 ) -> Result<(), Failure> {
@@ -629,12 +643,12 @@ fn render_on_gpu(
         film.add_samples(pass.min(total - film.samples_done()))?;
         bar.set_position(film.samples_done() as u64);
         if args.progressive && film.samples_done() < total {
-            write_image(&film.image()?, &args.output, format, transfer)?;
+            write_image(&film.image()?, output, format, transfer)?;
         }
     }
     bar.finish_and_clear();
     let image = film.image()?;
-    write_image(&image, &args.output, format, transfer)?;
+    write_image(&image, output, format, transfer)?;
     if !args.quiet {
         let seconds = start.elapsed().as_secs_f64();
         let (w, h) = (scene.settings.width, scene.settings.height);
@@ -643,7 +657,7 @@ fn render_on_gpu(
         // apart: the rate is the rendering's own.
         eprintln!(
             "wrote {} ({w}x{h}, {total} spp) in {seconds:.2} s on the GPU {} ({setup:.2} s setup): {:.2} M samples/s",
-            args.output.display(),
+            output.display(),
             gpu.describe(),
             samples / (seconds - setup).max(1e-9) / 1e6,
         );
@@ -689,11 +703,12 @@ fn run_convert(args: &ConvertArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-fn load(path: Option<&Path>) -> Result<SceneDesc, Failure> {
+/// The scene at `path` (the built-in one without), animated properties at `frame`.
+fn load(path: Option<&Path>, frame: f64) -> Result<SceneDesc, Failure> {
     match path {
         None => Ok(glint_scene::default_scene()),
         Some(path) => {
-            let loaded = glint_scene::load_any(path)?;
+            let loaded = glint_scene::load_any_at(path, frame)?;
             for warning in &loaded.warnings {
                 eprintln!("glint: warning: {warning}");
             }
