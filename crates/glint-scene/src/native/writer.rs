@@ -930,6 +930,11 @@ pub fn save_atomically(path: &Path, text: &str) -> std::io::Result<()> {
     crate::atomic_file::write_atomically(path, |tmp| std::fs::write(tmp, text), |e| e)
 }
 
+/// Frames per second when a scene does not say.
+fn defaults_fps() -> f32 {
+    RenderSettings::default().fps
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -958,9 +963,4 @@ mod tests {
         assert_eq!(rel, Path::new("../scenes/tex/a.png"));
         assert_eq!(relative_path(Path::new("/a/b.png"), Path::new("/c")), None);
     }
-}
-
-/// Frames per second when a scene does not say.
-fn defaults_fps() -> f32 {
-    RenderSettings::default().fps
 }
