@@ -547,6 +547,31 @@ impl RenderScene {
         Some(self.hit_from(ray, index, hit))
     }
 
+    /// How much work finding `ray`'s closest hit takes: the shapes it is tested against,
+    /// a mesh counting the packets of four triangles tested inside it (a traversal-cost
+    /// view; not the timed path).
+    pub fn traversal_cost(&self, ray: &Ray) -> u32 {
+        let mut tests = 0;
+        let mut test = |index: u32, t_max: &mut f32| {
+            let inst = &self.instances[index as usize];
+            let local = self.transform_at(inst, ray.time).ray_to_object(ray);
+            tests += match inst.shape.kind {
+                ShapeKind::Mesh => self.meshes[inst.shape.mesh_index() as usize].packets_tested(&local, *t_max),
+                _ => 1,
+            };
+            if let Some(hit) = self.intersect_shape(inst, &local, *t_max) {
+                *t_max = hit.t;
+            }
+            false
+        };
+        let mut t_max = f32::INFINITY;
+        self.bvh.traverse(ray, &mut t_max, &mut test);
+        for index in self.bounded_count..self.instances.len() {
+            test(index as u32, &mut t_max);
+        }
+        tests
+    }
+
     /// The full [`Hit`] of `ray` from its closest hit `hit` on instance `index`.
     fn hit_from(&self, ray: &Ray, index: u32, hit: crate::shape::ShapeHit) -> Hit {
         let inst = &self.instances[index as usize];

@@ -1,5 +1,6 @@
 //! Integrators: what colour a ray brings back.
 
+pub mod observe;
 pub mod path;
 pub mod whitted;
 

@@ -11,6 +11,7 @@ use glam::Vec3;
 use glam::Vec2;
 
 use super::TraceContext;
+use super::observe::{NoObserver, Observer, RayKind};
 use crate::material::{Material, NO_TEXTURE};
 use crate::math::{Ray, offset_ray_origin};
 use crate::scene::{Hit, RenderScene};
@@ -19,6 +20,13 @@ use crate::scene::{Hit, RenderScene};
 /// lead from the pixel to this ray, used only to stop negligible recursion.
 pub fn radiance(scene: &RenderScene, ray: &Ray, depth: u32, weight: Vec3, ctx: &mut TraceContext) -> Vec3 {
     shade(scene, ray, scene.intersect(ray, f32::INFINITY), depth, weight, ctx)
+}
+
+/// [`radiance`] for a camera ray, telling `observer` every ray of its tree and every
+/// term of the lighting equation (to explain a pixel).
+pub fn radiance_observed(scene: &RenderScene, ray: &Ray, ctx: &mut TraceContext, observer: &mut impl Observer) -> Vec3 {
+    let hit = scene.intersect(ray, f32::INFINITY);
+    shade_observed(scene, (ray, RayKind::Camera), hit, 0, Vec3::ONE, ctx, observer)
 }
 
 /// [`radiance`] along `ray` whose closest hit is already known: camera rays are
@@ -31,9 +39,25 @@ pub fn shade(
     weight: Vec3,
     ctx: &mut TraceContext,
 ) -> Vec3 {
+    shade_observed(scene, (ray, RayKind::Camera), hit, depth, weight, ctx, &mut NoObserver)
+}
+
+/// [`shade`] telling `observer` what it does; with [`NoObserver`] the calls compile away.
+fn shade_observed(
+    scene: &RenderScene,
+    (ray, kind): (&Ray, RayKind),
+    hit: Option<Hit>,
+    depth: u32,
+    weight: Vec3,
+    ctx: &mut TraceContext,
+    observer: &mut impl Observer,
+) -> Vec3 {
     ctx.counters.rays += 1;
+    observer.ray(ray, kind, depth, hit.as_ref());
     let Some(hit) = hit else {
-        return scene.background(ray.dir);
+        let background = scene.background(ray.dir);
+        observer.done(background);
+        return background;
     };
     let material = &scene.materials[hit.material as usize];
     let d = ray.dir.normalize();
@@ -41,9 +65,10 @@ pub fn shade(
     // decides the side and carries the ray offsets; an interpolated mesh normal may lean.
     let entering = hit.geometric_normal.dot(d) < 0.0;
     let (n, ng) = if entering { (hit.normal, hit.geometric_normal) } else { (-hit.normal, -hit.geometric_normal) };
-    let mut color = direct_lighting(scene, &hit, material, (n, -d), ray.time, ctx);
+    let mut color = direct_lighting(scene, &hit, material, (n, -d), ray.time, ctx, observer);
 
     if depth >= scene.settings.max_depth {
+        observer.done(color);
         return blamed_if_non_finite(color, &hit, ctx);
     }
     let worth_tracing = |w: Vec3| w.max_element() > scene.settings.min_contribution;
@@ -52,19 +77,31 @@ pub fn shade(
     let reflect_weight = weight * material.reflective;
     if features.reflections && worth_tracing(reflect_weight) {
         let r = Ray::new(offset_ray_origin(hit.point, ng), reflected_dir).at_time(ray.time);
-        color += material.reflective * radiance(scene, &r, depth + 1, reflect_weight, ctx);
+        let hit = scene.intersect(&r, f32::INFINITY);
+        let term = material.reflective
+            * shade_observed(scene, (&r, RayKind::Reflected), hit, depth + 1, reflect_weight, ctx, observer);
+        observer.term("reflected k_s·O_r·I_r", term);
+        color += term;
     }
     let transmit_weight = weight * material.transmissive;
     if features.refractions && worth_tracing(transmit_weight) {
         let eta = if entering { 1.0 / material.ior } else { material.ior };
         let transmitted = if material.ior == 1.0 { Some(d) } else { refract(d, n, eta) };
-        let r = match transmitted {
-            Some(t) => Ray::new(offset_ray_origin(hit.point, -ng), t).at_time(ray.time),
+        let (r, kind) = match transmitted {
+            Some(t) => (Ray::new(offset_ray_origin(hit.point, -ng), t).at_time(ray.time), RayKind::Refracted),
             // Total internal reflection: the transmitted share is reflected instead.
-            None => Ray::new(offset_ray_origin(hit.point, ng), reflected_dir).at_time(ray.time),
+            None => (
+                Ray::new(offset_ray_origin(hit.point, ng), reflected_dir).at_time(ray.time),
+                RayKind::TotalInternalReflection,
+            ),
         };
-        color += material.transmissive * radiance(scene, &r, depth + 1, transmit_weight, ctx);
+        let hit = scene.intersect(&r, f32::INFINITY);
+        let term =
+            material.transmissive * shade_observed(scene, (&r, kind), hit, depth + 1, transmit_weight, ctx, observer);
+        observer.term("transmitted k_t·O_t·I_t", term);
+        color += term;
     }
+    observer.done(color);
     blamed_if_non_finite(color, &hit, ctx)
 }
 
@@ -87,18 +124,20 @@ fn direct_lighting(
     (n, v): (Vec3, Vec3),
     time: f32,
     ctx: &mut TraceContext,
+    observer: &mut impl Observer,
 ) -> Vec3 {
     let features = scene.settings.features;
     let texel =
         (features.textures && m.texture != NO_TEXTURE).then(|| scene.texture(m.texture, hit.uv * m.texture_repeat));
     let diffuse = m.diffuse_with(texel);
     let mut color = scene.settings.ambient_light * m.ambient;
+    observer.term("ambient L_a·k_a·O_a", color);
     // Seen from outside, a smooth mesh's shadow rays start on the surface its normals
     // describe (Hanika 2021), which removes the jagged self-shadow at the terminator.
     let outside = hit.geometric_normal.dot(n) >= 0.0;
     let ng = if outside { hit.geometric_normal } else { -hit.geometric_normal };
     let shadow_origin = offset_ray_origin(if outside { hit.shadow_point } else { hit.point }, ng);
-    for light in &scene.lights {
+    for (light_index, light) in scene.lights.iter().enumerate() {
         // An area light is the sum of its stratified samples; the others have one.
         for index in 0..light.sample_count() {
             let jitter = Vec2::new(ctx.rng.next_f32(), ctx.rng.next_f32());
@@ -110,13 +149,15 @@ fn direct_lighting(
             let filter = if features.shadows {
                 ctx.counters.rays += 1;
                 let shadow_ray = Ray::new(shadow_origin, incidence.to_light).at_time(time);
-                if features.transparent_shadows {
+                let filter = if features.transparent_shadows {
                     scene.transmittance(&shadow_ray, incidence.distance)
                 } else if scene.occluded(&shadow_ray, incidence.distance) {
                     Vec3::ZERO
                 } else {
                     Vec3::ONE
-                }
+                };
+                observer.shadow_ray(&shadow_ray, incidence.distance, filter);
+                filter
             } else {
                 Vec3::ONE
             };
@@ -125,7 +166,9 @@ fn direct_lighting(
             }
             let r = reflect(-incidence.to_light, n);
             let highlight = if m.specular == Vec3::ZERO { 0.0 } else { r.dot(v).max(0.0).powf(m.shininess) };
-            color += filter * incidence.radiance * (diffuse * n_dot_l + m.specular * highlight);
+            let lit = filter * incidence.radiance;
+            observer.light(light_index, lit * diffuse * n_dot_l, lit * m.specular * highlight);
+            color += lit * (diffuse * n_dot_l + m.specular * highlight);
         }
     }
     color

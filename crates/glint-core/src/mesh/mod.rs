@@ -218,6 +218,21 @@ impl Mesh {
         )
     }
 
+    /// How many packets of four triangles the closest-hit query for `ray` tests: the
+    /// work it takes, for a traversal-cost view (portable lanes, not timed).
+    pub fn packets_tested(&self, ray: &Ray, t_max: f32) -> u32 {
+        let Some(wray) = WatertightRay::new(ray).map(WatertightRay4::new) else { return 0 };
+        let mut tested = 0;
+        self.bvh.traverse(ray, &mut { t_max }, |packet, t_max| {
+            tested += 1;
+            if let Some((t, _)) = triangle4::intersect(&wray, &self.packets[packet as usize], *t_max) {
+                *t_max = t;
+            }
+            false
+        });
+        tested
+    }
+
     /// Whether any triangle is hit in `(0, t_max)`; stops at the first.
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         crate::accel::lanes::on_avx2_or!(

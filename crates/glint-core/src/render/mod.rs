@@ -6,6 +6,7 @@
 //! resumed from a checkpoint of its finished tiles ([`TileStore`]).
 
 mod checkpoint;
+pub mod inspect;
 mod non_finite;
 mod parts;
 
