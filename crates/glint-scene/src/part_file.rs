@@ -59,6 +59,14 @@ fn layer_name(layer: usize, reach: u32) -> String {
 
 /// Writes `film` to `path` (atomically).
 pub fn write_part(path: &Path, film: &PartialFilm, meta: PartMeta) -> Result<(), PartFileError> {
+    let fail = |message: String| PartFileError::Write { path: path.to_owned(), message };
+    let bytes = encode_part(film, meta).map_err(fail)?;
+    write_atomically(path, |tmp| std::fs::write(tmp, &bytes).map_err(|e| fail(e.to_string())), |e| fail(e.to_string()))
+}
+
+/// `film` as the bytes of its OpenEXR file: what a part file holds, and what a
+/// distributed render sends back from a worker.
+pub fn encode_part(film: &PartialFilm, meta: PartMeta) -> Result<Vec<u8>, String> {
     let mut channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = SmallVec::new();
     let preview = film.preview();
     for (k, name) in ["R", "G", "B"].into_iter().enumerate() {
@@ -75,8 +83,9 @@ pub fn write_part(path: &Path, film: &PartialFilm, meta: PartMeta) -> Result<(),
     let attributes = LayerAttributes { other: header(film, meta), ..LayerAttributes::default() };
     let size = (film.width as usize, film.height as usize);
     let image = Image::from_layer(Layer::new(size, attributes, Encoding::SMALL_LOSSLESS, AnyChannels::sort(channels)));
-    let fail = |message: String| PartFileError::Write { path: path.to_owned(), message };
-    write_atomically(path, |tmp| image.write().to_file(tmp).map_err(|e| fail(e.to_string())), |e| fail(e.to_string()))
+    let mut bytes = Cursor::new(Vec::new());
+    image.write().to_buffered(&mut bytes).map_err(|e| e.to_string())?;
+    Ok(bytes.into_inner())
 }
 
 fn header(film: &PartialFilm, meta: PartMeta) -> HashMap<Text, AttributeValue> {
@@ -108,8 +117,14 @@ fn header(film: &PartialFilm, meta: PartMeta) -> HashMap<Text, AttributeValue> {
 
 /// Reads a part written by [`write_part`], within the image file size limit.
 pub fn read_part(path: &Path) -> Result<(PartialFilm, PartMeta), PartFileError> {
-    let bytes = read_bytes(path, InputKind::Image)
-        .map_err(|e| PartFileError::Read { path: path.to_owned(), message: e.to_string() })?;
+    let bytes =
+        read_bytes(path, InputKind::Image).map_err(|e| PartFileError::Read { path: path.to_owned(), message: e.to_string() })?;
+    decode_part(&bytes, path)
+}
+
+/// A part from the bytes [`encode_part`] made; `origin` names them in errors.
+pub fn decode_part(bytes: &[u8], origin: &Path) -> Result<(PartialFilm, PartMeta), PartFileError> {
+    let path = origin;
     let not_a_part = |message: String| PartFileError::NotAPart { path: path.to_owned(), message };
     let image = exr::prelude::read()
         .no_deep_data()
