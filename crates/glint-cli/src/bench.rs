@@ -116,8 +116,23 @@ pub fn generate(n_lat: u32, n_lon: u32, side: u32, random: usize) -> BenchInput 
 /// One measured quantity: a JSON key and its value.
 pub type Measure = (String, f64);
 
+/// How the rays are timed.
+#[derive(Clone, Copy, Debug)]
+pub struct BenchOptions {
+    /// Threads tracing the rays (each takes chunks of 1024 rays in turn); 1 = one thread.
+    pub threads: usize,
+    /// Timed runs of each query: the median is reported, and the fastest and slowest.
+    pub rounds: usize,
+}
+
+impl Default for BenchOptions {
+    fn default() -> Self {
+        Self { threads: 1, rounds: 5 }
+    }
+}
+
 /// Builds and traces `input`, calling `progress` with what it is about to time.
-pub fn run(input: &BenchInput, mut progress: impl FnMut(&str)) -> Result<Vec<Measure>, String> {
+pub fn run(input: &BenchInput, options: BenchOptions, mut progress: impl FnMut(&str)) -> Result<Vec<Measure>, String> {
     let mut out: Vec<Measure> = Vec::new();
     let mut put = |key: &str, value: f64| out.push((key.to_string(), value));
     progress("building");
@@ -144,59 +159,156 @@ pub fn run(input: &BenchInput, mut progress: impl FnMut(&str)) -> Result<Vec<Mea
     put("build_s", build_s);
     put("build_wall_s", build_wall_s);
     put("threads", rayon::current_num_threads() as f64);
+    put("trace_threads", options.threads as f64);
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(options.threads).build().map_err(|e| e.to_string())?;
+    let timer = RayTimer { pool: &pool, rounds: options.rounds.max(1) };
     for (name, rays, reference) in
         [("coherent", &input.coherent, &input.reference[0]), ("incoherent", &input.incoherent, &input.reference[1])]
     {
         progress(&format!("tracing {name} rays"));
-        let per_s = |secs: f64| rays.len() as f64 / secs;
-        let (secs, hits) = best_of_3(thread_cpu_seconds, || {
-            rays.iter().map(|r| mesh.intersect(r, f32::INFINITY).map(|h| h.t)).collect::<Vec<_>>()
-        });
-        put(&format!("{name}_closest_rays_per_s"), per_s(secs));
-        let (secs, blocked) =
-            best_of_3(thread_cpu_seconds, || rays.iter().filter(|r| mesh.occluded(r, f32::INFINITY)).count());
-        put(&format!("{name}_any_rays_per_s"), per_s(secs));
+        let (rate, hits) = timer.time(rays, |r| mesh.intersect(r, f32::INFINITY).map(|h| h.t));
+        rate.put(&mut put, &format!("{name}_closest"));
+        let (rate, blocked) = timer.time(rays, |r| mesh.occluded(r, f32::INFINITY));
+        rate.put(&mut put, &format!("{name}_any"));
         let hit_count = hits.iter().filter(|h| h.is_some()).count();
-        if blocked != hit_count {
-            return Err(format!("{name} rays: {blocked} blocked but {hit_count} hit; the queries disagree"));
+        if blocked.iter().filter(|&&b| b).count() != hit_count {
+            return Err(format!("{name} rays: blocked and hit rays differ; the queries disagree"));
         }
         put(&format!("{name}_hit_fraction"), hit_count as f64 / rays.len().max(1) as f64);
         if !reference.is_empty() {
             put(&format!("{name}_disagree_with_reference"), disagreements(&hits, reference) as f64);
         }
-        if name == "coherent" {
-            let order = tile_order(rays.len());
-            let packets: Vec<Ray> = order.iter().map(|&i| rays[i]).collect();
-            let (secs, packet_hits) = best_of_3(thread_cpu_seconds, || {
-                let mut out = Vec::with_capacity(packets.len());
-                for rays in packets.chunks(PACKET) {
-                    let mut hits = [None; PACKET];
-                    mesh.intersect_packet(rays, u32::MAX, &mut [f32::INFINITY; PACKET], &mut hits);
-                    out.extend_from_slice(&hits[..rays.len()]);
-                }
-                out
-            });
-            put("coherent_closest_packet_rays_per_s", per_s(secs));
-            let (secs, packet_blocked) = best_of_3(thread_cpu_seconds, || {
-                packets
-                    .chunks(PACKET)
-                    .map(|rays| mesh.occluded_packet(rays, f32::INFINITY).count_ones() as usize)
-                    .sum::<usize>()
-            });
-            put("coherent_any_packet_rays_per_s", per_s(secs));
-            // The same distance; of surfaces hit at (nearly) the same distance the
-            // visit order may pick another, so the last bits may differ.
-            let close = |a: f32, b: f32| (a - b).abs() <= 1e-6 * a.abs().max(1.0);
-            let same = order.iter().zip(&packet_hits).all(|(&i, h)| match (h, hits[i]) {
-                (Some(h), Some(t)) => close(h.t, t),
-                (h, t) => h.is_none() && t.is_none(),
-            });
-            if !same || packet_blocked != blocked {
-                return Err("packets and single rays found different hits".into());
-            }
+        // Camera rays go into packets as 4×2 pixel tiles; random rays as they come.
+        let order = if name == "coherent" { tile_order(rays.len()) } else { (0..rays.len()).collect() };
+        let packets: Vec<Ray> = order.iter().map(|&i| rays[i]).collect();
+        let (rate, packet_hits) = timer.time_packets(&packets, |rays| {
+            let mut hits = [None; PACKET];
+            mesh.intersect_packet(rays, u32::MAX, &mut [f32::INFINITY; PACKET], &mut hits);
+            hits
+        });
+        rate.put(&mut put, &format!("{name}_closest_packet"));
+        let (rate, packet_blocked) = timer.time_packets(&packets, |rays| {
+            let mask = mesh.occluded_packet(rays, f32::INFINITY);
+            std::array::from_fn(|k| mask >> k & 1 == 1)
+        });
+        rate.put(&mut put, &format!("{name}_any_packet"));
+        // The same distance; of surfaces hit at (nearly) the same distance the visit
+        // order may pick another, so the last bits may differ.
+        let close = |a: f32, b: f32| (a - b).abs() <= 1e-6 * a.abs().max(1.0);
+        let same = order.iter().zip(&packet_hits).all(|(&i, h)| match (h, hits[i]) {
+            (Some(h), Some(t)) => close(h.t, t),
+            (h, t) => h.is_none() && t.is_none(),
+        });
+        let same_blocked = order.iter().zip(&packet_blocked).all(|(&i, &b)| b == blocked[i]);
+        if !same || !same_blocked {
+            return Err(format!("{name} rays: packets and single rays found different hits"));
         }
     }
     Ok(out)
+}
+
+/// A rate's median over the timed runs, and its fastest and slowest.
+struct Rate {
+    median: f64,
+    min: f64,
+    max: f64,
+}
+
+impl Rate {
+    /// `{key}_rays_per_s` (the median) and its `_min` and `_max`.
+    fn put(&self, put: &mut impl FnMut(&str, f64), key: &str) {
+        put(&format!("{key}_rays_per_s"), self.median);
+        put(&format!("{key}_rays_per_s_min"), self.min);
+        put(&format!("{key}_rays_per_s_max"), self.max);
+    }
+}
+
+/// Times a query over many rays on a pool of threads: wall-clock seconds on several
+/// threads, this thread's CPU seconds on one (so other work on a busy machine counts
+/// less).
+struct RayTimer<'a> {
+    pool: &'a rayon::ThreadPool,
+    rounds: usize,
+}
+
+/// Rays a thread takes at a time.
+const CHUNK: usize = 1024;
+
+impl RayTimer<'_> {
+    /// Runs `query` on every ray `rounds` times: the rate, and the answers in ray order.
+    fn time<T: Send>(&self, rays: &[Ray], query: impl Fn(&Ray) -> T + Sync) -> (Rate, Vec<T>) {
+        self.measure(rays.len(), || {
+            self.pool.install(|| {
+                use rayon::prelude::*;
+                rays.par_chunks(CHUNK).flat_map_iter(|chunk| chunk.iter().map(&query).collect::<Vec<_>>()).collect()
+            })
+        })
+    }
+
+    /// Runs `query` on every packet of [`PACKET`] rays: the rate, and the answers.
+    fn time_packets<T: Send + Copy>(
+        &self,
+        rays: &[Ray],
+        query: impl Fn(&[Ray]) -> [T; PACKET] + Sync,
+    ) -> (Rate, Vec<T>) {
+        self.measure(rays.len(), || {
+            self.pool.install(|| {
+                use rayon::prelude::*;
+                rays.par_chunks(CHUNK)
+                    .flat_map_iter(|chunk| {
+                        chunk.chunks(PACKET).flat_map(|p| query(p).into_iter().take(p.len())).collect::<Vec<_>>()
+                    })
+                    .collect()
+            })
+        })
+    }
+
+    fn measure<T>(&self, rays: usize, mut run: impl FnMut() -> T) -> (Rate, T) {
+        let single = self.pool.current_num_threads() == 1;
+        let mut rates = Vec::with_capacity(self.rounds);
+        let mut out = None;
+        for _ in 0..self.rounds {
+            let wall = Instant::now();
+            let start = if single { self.pool.install(|| thread_cpu_seconds(wall)) } else { 0.0 };
+            out = Some(run());
+            let seconds = if single {
+                self.pool.install(|| thread_cpu_seconds(wall)) - start
+            } else {
+                wall.elapsed().as_secs_f64()
+            };
+            rates.push(rays as f64 / seconds);
+        }
+        rates.sort_by(f64::total_cmp);
+        let rate = Rate { median: rates[rates.len() / 2], min: rates[0], max: rates[rates.len() - 1] };
+        (rate, out.expect("at least one round"))
+    }
+}
+
+/// Writes `input` as a `GLBENCH1` file with `reference` as the closest-hit distances
+/// (∞ for a miss), for another library (bench/embree_native.sh) to trace the same rays.
+pub fn write_input(path: &Path, input: &BenchInput, reference: [&[f32]; 2]) -> std::io::Result<()> {
+    let mut bytes = b"GLBENCH1".to_vec();
+    let mut words = |values: &mut dyn Iterator<Item = u32>| values.for_each(|w| bytes.extend(w.to_le_bytes()));
+    let (v, t) = (input.mesh.positions.len(), input.mesh.indices.len() / 3);
+    words(&mut [v, t, input.coherent.len(), input.incoherent.len()].into_iter().map(|n| n as u32));
+    words(&mut input.mesh.positions.iter().flat_map(|p| p.to_array()).map(f32::to_bits));
+    words(&mut input.mesh.indices.iter().copied());
+    for rays in [&input.coherent, &input.incoherent] {
+        words(&mut rays.iter().flat_map(|r| [r.origin.to_array(), r.dir.to_array()].concat()).map(f32::to_bits));
+    }
+    for distances in reference {
+        words(&mut distances.iter().map(|t| t.to_bits()));
+    }
+    std::fs::write(path, bytes)
+}
+
+/// Every ray's closest-hit distance on `input`'s mesh (∞ for a miss).
+pub fn closest_distances(input: &BenchInput) -> Result<[Vec<f32>; 2], String> {
+    let mesh = Mesh::compile(&input.mesh).map_err(|e| e.to_string())?;
+    let trace = |rays: &Vec<Ray>| {
+        rays.iter().map(|r| mesh.intersect(r, f32::INFINITY).map_or(f32::INFINITY, |h| h.t)).collect()
+    };
+    Ok([trace(&input.coherent), trace(&input.incoherent)])
 }
 
 /// The order in which camera rays of a square image (row by row) go into packets: 4×2
@@ -245,15 +357,16 @@ pub fn to_table(measures: &[Measure]) -> String {
         get("build_wall_s"),
         get("threads")
     );
-    let _ = writeln!(s, "rays on one thread, Mrays per CPU second:");
+    let threads = get("trace_threads");
+    let clock = if threads == 1.0 { "Mrays per CPU second on one thread" } else { "Mrays per second" };
+    let _ = writeln!(s, "rays on {threads} thread(s), {clock}: median (slowest – fastest run)");
     for kind in ["coherent", "incoherent"] {
-        for query in ["closest", "any"] {
-            let _ = writeln!(s, "  {kind:10} {query:7} {:8.3}", get(&format!("{kind}_{query}_rays_per_s")) / 1e6);
+        for (query, packet) in [("closest", ""), ("any", ""), ("closest", "_packet"), ("any", "_packet")] {
+            let key = format!("{kind}_{query}{packet}_rays_per_s");
+            let [median, min, max] = ["", "_min", "_max"].map(|end| get(&format!("{key}{end}")) / 1e6);
+            let how = if packet.is_empty() { String::new() } else { format!("  in packets of {PACKET}") };
+            let _ = writeln!(s, "  {kind:10} {query:7} {median:8.3} ({min:.3} – {max:.3}){how}");
         }
-    }
-    for query in ["closest", "any"] {
-        let packet = get(&format!("coherent_{query}_packet_rays_per_s")) / 1e6;
-        let _ = writeln!(s, "  coherent   {query:7} {packet:8.3}  in packets of {PACKET}");
     }
     let _ = writeln!(s, "memory: {:.1} bytes per triangle", get("memory_bytes") / tris);
     s
@@ -359,7 +472,7 @@ mod tests {
         assert_eq!(input.mesh.indices.len(), 3 * 2 * 20 * 40);
         input.reference = [&input.coherent, &input.incoherent]
             .map(|rays| rays.iter().map(|r| brute_force_t(&input.mesh, r)).collect());
-        let measures = run(&input, |_| {}).unwrap();
+        let measures = run(&input, BenchOptions { threads: 2, rounds: 1 }, |_| {}).unwrap();
         let get = |k: &str| measures.iter().find(|(key, _)| key == k).unwrap().1;
         assert_eq!(get("triangles"), (2 * 20 * 40) as f64);
         for (name, rays, reference) in

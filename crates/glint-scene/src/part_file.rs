@@ -117,8 +117,8 @@ fn header(film: &PartialFilm, meta: PartMeta) -> HashMap<Text, AttributeValue> {
 
 /// Reads a part written by [`write_part`], within the image file size limit.
 pub fn read_part(path: &Path) -> Result<(PartialFilm, PartMeta), PartFileError> {
-    let bytes =
-        read_bytes(path, InputKind::Image).map_err(|e| PartFileError::Read { path: path.to_owned(), message: e.to_string() })?;
+    let bytes = read_bytes(path, InputKind::Image)
+        .map_err(|e| PartFileError::Read { path: path.to_owned(), message: e.to_string() })?;
     decode_part(&bytes, path)
 }
 
