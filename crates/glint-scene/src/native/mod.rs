@@ -7,6 +7,7 @@
 mod args;
 mod bsdf;
 mod builder;
+pub mod data;
 mod integrator;
 pub mod lexer;
 mod lights;
