@@ -117,3 +117,29 @@ def test_ctrl_c_cancels_the_render():
         glint.render(glint.default_scene(), width=800, height=600, spp=1024, progress=False)
     timer.cancel()
     assert time.monotonic() - start < 20, "the render stopped soon after Ctrl-C"
+
+
+def test_progress_goes_through_tqdm_when_it_is_installed(monkeypatch):
+    import sys
+    import types
+
+    bars = []
+
+    class FakeTqdm:
+        def __init__(self, total, **kwargs):
+            self.total, self.n, self.closed = total, 0, False
+            bars.append(self)
+
+        def update(self, step):
+            self.n += step
+
+        def close(self):
+            self.closed = True
+
+    fake = types.ModuleType("tqdm.auto")
+    fake.tqdm = FakeTqdm
+    monkeypatch.setitem(sys.modules, "tqdm", types.ModuleType("tqdm"))
+    monkeypatch.setitem(sys.modules, "tqdm.auto", fake)
+    glint.render(glint.default_scene(), width=64, height=48, spp=1)
+    assert len(bars) == 1
+    assert (bars[0].n, bars[0].total, bars[0].closed) == (12, 12, True)
