@@ -11,7 +11,7 @@ mod frames;
 mod parts;
 
 use glint_cli::checkpoint::{Checkpointer, DEFAULT_INTERVAL_SECONDS};
-use glint_core::desc::{AdaptiveDesc, FilterKind, IntegratorDesc, PathDesc, SamplePattern, SamplerKind, SceneDesc};
+use glint_core::desc::{AdaptiveDesc, FilterKind, SamplePattern, SamplerKind, SceneDesc};
 use glint_core::film::Image;
 use glint_core::film::Transfer;
 use glint_core::render::{NonFiniteSamples, RenderError, TileStore, render_progressive};
@@ -19,6 +19,7 @@ use glint_core::scene::compile;
 use glint_scene::image_out::{OutputFormat, write_exr_layers, write_image};
 use glint_scene::input::InputLimits;
 use glint_scene::native::MAX_SPP;
+use glint_scene::overrides::{IntegratorChoice, OverrideError, Overrides, PathOnly};
 use indicatif::{ProgressBar, ProgressStyle};
 
 /// glint — a ray tracer faithful to the classic Whitted model.
@@ -751,83 +752,61 @@ fn load(path: Option<&Path>, frame: f64) -> Result<SceneDesc, Failure> {
     }
 }
 
-/// Applies the command line's settings on top of the scene's.
+/// Applies the command line's settings on top of the scene's (the same
+/// [`Overrides`] the Python API applies).
 ///
 /// # Errors
 ///
 /// A message when a flag does not apply to the integrator that will render: an
 /// unlimited --max-depth, --rr-depth or --sampler with the Whitted integrator.
 fn apply_overrides(desc: &mut SceneDesc, args: &RenderArgs) -> Result<(), String> {
-    let s = &mut desc.settings;
-    s.width = args.width.unwrap_or(s.width);
-    s.height = args.height.unwrap_or(s.height);
-    if let Some(samples) = args.samples {
-        s.samples_per_axis = samples;
-        // An explicit grid replaces the scene's total, or the flag would do nothing.
-        s.spp = None;
-    }
-    s.spp = args.spp.or(s.spp);
-    match (args.integrator, s.integrator) {
-        (Some(IntegratorArg::Whitted), _) => s.integrator = IntegratorDesc::Whitted,
-        (Some(IntegratorArg::Path), IntegratorDesc::Whitted) => {
-            s.integrator = IntegratorDesc::Path(PathDesc::default())
-        }
-        (Some(IntegratorArg::Path), IntegratorDesc::Path(_)) | (None, _) => {}
-    }
-    let whitted_only = |flag: &str| {
+    overrides(args).apply(desc).map_err(|e| {
+        let flag = match e {
+            OverrideError::PathOnly(PathOnly::UnlimitedMaxDepth) => {
+                "an unlimited --max-depth (the Whitted integrator needs a finite depth)"
+            }
+            OverrideError::PathOnly(PathOnly::RrDepth) => "--rr-depth",
+            OverrideError::PathOnly(PathOnly::Sampler) => "--sampler",
+            OverrideError::RrDepthZero => return e.to_string(),
+        };
         format!("{flag} applies only to the path integrator; add --integrator path or render a path-traced scene")
-    };
-    match &mut s.integrator {
-        IntegratorDesc::Path(path) => {
-            if let Some(depth) = args.max_depth {
-                path.max_depth = depth;
-                // The Whitted depth keeps its finite value; an unlimited one would recurse forever.
-                if depth != u32::MAX {
-                    s.max_depth = depth;
-                }
-            }
-            path.rr_depth = args.rr_depth.unwrap_or(path.rr_depth);
-            if let Some(sampler) = args.sampler {
-                path.sampler = match sampler {
-                    SamplerArg::Sobol => SamplerKind::Sobol,
-                    SamplerArg::Independent => SamplerKind::Independent,
-                };
-            }
-        }
-        IntegratorDesc::Whitted => {
-            if args.max_depth == Some(u32::MAX) {
-                return Err(whitted_only("an unlimited --max-depth (the Whitted integrator needs a finite depth)"));
-            }
-            s.max_depth = args.max_depth.unwrap_or(s.max_depth);
-            if args.rr_depth.is_some() {
-                return Err(whitted_only("--rr-depth"));
-            }
-            if args.sampler.is_some() {
-                return Err(whitted_only("--sampler"));
-            }
-        }
-    }
-    s.seed = args.seed.unwrap_or(s.seed);
-    s.adaptive = args.adaptive.or(s.adaptive);
-    s.filter.radius = args.filter_radius.unwrap_or(s.filter.radius);
-    if let Some(pattern) = args.pattern {
-        s.pattern = match pattern {
+    })
+}
+
+/// The render flags that replace the scene's settings.
+fn overrides(args: &RenderArgs) -> Overrides {
+    Overrides {
+        width: args.width,
+        height: args.height,
+        samples: args.samples,
+        spp: args.spp,
+        integrator: args.integrator.map(|i| match i {
+            IntegratorArg::Whitted => IntegratorChoice::Whitted,
+            IntegratorArg::Path => IntegratorChoice::Path,
+        }),
+        max_depth: args.max_depth,
+        rr_depth: args.rr_depth,
+        sampler: args.sampler.map(|s| match s {
+            SamplerArg::Sobol => SamplerKind::Sobol,
+            SamplerArg::Independent => SamplerKind::Independent,
+        }),
+        pattern: args.pattern.map(|p| match p {
             PatternArg::Grid => SamplePattern::Grid,
             PatternArg::Corners => SamplePattern::CornersAndCentre,
             PatternArg::Jittered => SamplePattern::Jittered,
             PatternArg::Sobol => SamplePattern::Sobol,
-        };
-    }
-    if let Some(filter) = args.filter {
-        s.filter.kind = match filter {
+        }),
+        filter: args.filter.map(|f| match f {
             FilterArg::Box => FilterKind::Box,
             FilterArg::Tent => FilterKind::Tent,
             FilterArg::Gaussian => FilterKind::Gaussian,
             FilterArg::Mitchell => FilterKind::Mitchell,
             FilterArg::Lanczos => FilterKind::Lanczos,
-        };
+        }),
+        filter_radius: args.filter_radius,
+        adaptive: args.adaptive,
+        seed: args.seed,
     }
-    Ok(())
 }
 
 /// The encoding `--format` asks for, else the one `path`'s extension names.
@@ -868,7 +847,7 @@ fn peak_memory() -> Option<String> {
 
 #[cfg(test)]
 mod tests {
-    use glint_core::desc::RenderSettings;
+    use glint_core::desc::{IntegratorDesc, PathDesc, RenderSettings};
 
     use super::*;
 

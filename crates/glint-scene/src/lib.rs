@@ -15,6 +15,7 @@ pub mod input;
 pub mod mesh;
 pub mod mitsuba;
 pub mod native;
+pub mod overrides;
 pub mod part_file;
 pub mod source;
 pub mod texture_io;

@@ -8,6 +8,7 @@ pub mod animation;
 mod args;
 mod bsdf;
 mod builder;
+pub mod data;
 mod integrator;
 pub mod lexer;
 mod lights;

@@ -1,0 +1,59 @@
+"""Type stubs of glint's compiled module; the documented API is the ``glint`` package."""
+
+from typing import Any, Callable, Mapping, Optional, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+class SceneError(ValueError):
+    """A scene glint cannot read, located at ``file:line:column`` (the key path for data)."""
+
+    file: str
+    line: int
+    column: int
+    message: str
+    kind: str
+
+class Scene:
+    """A scene description, ready to render; rendering never changes it."""
+
+    @property
+    def width(self) -> int: ...
+    @property
+    def height(self) -> int: ...
+    @property
+    def spp(self) -> int: ...
+    @property
+    def integrator(self) -> str: ...
+    @property
+    def format(self) -> str: ...
+    @property
+    def warnings(self) -> list[str]: ...
+
+def load(path: str) -> Scene: ...
+def load_dict(data: Mapping[str, Any], base_dir: str) -> Scene: ...
+def default_scene() -> Scene: ...
+def render(
+    scene: Scene,
+    *,
+    spp: Optional[int] = None,
+    width: Optional[int] = None,
+    height: Optional[int] = None,
+    integrator: Optional[str] = None,
+    seed: Optional[int] = None,
+    samples: Optional[int] = None,
+    max_depth: Union[int, str, None] = None,
+    rr_depth: Optional[int] = None,
+    sampler: Optional[str] = None,
+    pattern: Optional[str] = None,
+    filter: Optional[str] = None,
+    filter_radius: Optional[float] = None,
+    adaptive: Optional[Tuple[int, int, float]] = None,
+    threads: int = 0,
+    progress: Optional[Callable[[int, int], Any]] = None,
+) -> Tuple[npt.NDArray[np.float32], str]: ...
+def write(path: str, image: npt.NDArray[np.float32], transfer: str = "srgb", format: Optional[str] = None) -> None: ...
+def read(path: str) -> npt.NDArray[np.float32]: ...
+def encode_png(image: npt.NDArray[np.float32], transfer: str = "srgb") -> bytes: ...
