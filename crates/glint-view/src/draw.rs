@@ -138,7 +138,7 @@ pub fn hud_lines(viewer: &Viewer) -> Vec<String> {
             timing.rays_per_second / 1e6
         ),
         format!(
-            "[I] {}  [1] shadows {}  [2] refl {}  [3] refr {}  [4] aa {}  [ ] depth {}  [V] {view}",
+            "{} | shadows {} refl {} refr {} aa {} | depth {} | {view}",
             if t.path { "path" } else { "whitted" },
             on(t.shadows),
             on(t.reflections),

@@ -26,11 +26,9 @@ pub fn run(mut viewer: Viewer, args: &ViewArgs) -> Result<(), String> {
         return bench(viewer);
     }
     while viewer.passes() < args.frames && viewer.step() {}
-    if let Some((x, y)) = args.explain {
-        if let Some(explained) = viewer.explain(x, y).cloned() {
-            let scene = viewer.scene().lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-            print!("{}", explain::describe(&explained.tree, (explained.x, explained.y), &scene, viewer.desc()));
-        }
+    if let Some(explained) = args.explain.and_then(|(x, y)| viewer.explain(x, y).cloned()) {
+        let scene = viewer.scene().lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        print!("{}", explain::describe(&explained.tree, (explained.x, explained.y), &scene, viewer.desc()));
     }
     viewer.save(&args.output)?;
     eprintln!("glint view: wrote {} ({} passes)", args.output.display(), viewer.passes());
@@ -53,13 +51,15 @@ fn bench(mut viewer: Viewer) -> Result<(), String> {
         composing += start.elapsed();
     }
     let passes = f64::from(BENCH_PASSES);
+    let rays_per_second = viewer.timing().rays_per_second;
     let (first_picture, first_frame) = latency(viewer);
     println!(
-        "{{\"passes_per_second\": {:.2}, \"frames_per_second\": {:.2}, \"input_to_picture_ms\": {:.1}, \"input_to_full_frame_ms\": {:.1}}}",
+        "{{\"passes_per_second\": {:.2}, \"frames_per_second\": {:.2}, \"input_to_picture_ms\": {:.1}, \"input_to_full_frame_ms\": {:.1}, \"mrays_per_second\": {:.2}}}",
         passes / rendering.as_secs_f64(),
         passes / (rendering + composing).as_secs_f64(),
         first_picture.as_secs_f64() * 1e3,
         first_frame.as_secs_f64() * 1e3,
+        rays_per_second / 1e6,
     );
     Ok(())
 }
