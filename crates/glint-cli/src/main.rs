@@ -129,6 +129,8 @@ enum Command {
     /// Merge the parts of a render (files of `glint render --part I/N`) into its image: the
     /// very image one `glint render` of the scene writes, bit for bit.
     Merge(MergeArgs),
+    /// Open an interactive viewer: progressive CPU rendering, camera, toggles, explain a pixel, live reload.
+    View(glint_view::ViewArgs),
 }
 
 #[derive(clap::Args)]
@@ -403,6 +405,7 @@ fn main() -> ExitCode {
         Command::Convert(args) => run_convert(&args),
         Command::Bench(args) => run_bench(&args),
         Command::Merge(args) => parts::run_merge(&args),
+        Command::View(args) => glint_view::run(&args).map_err(Failure::Message),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
