@@ -89,10 +89,11 @@ def _plain(image: Any) -> np.ndarray:
     return np.ascontiguousarray(np.asarray(image, dtype=np.float32)).view(np.ndarray)
 
 
-def load(path: PathLike) -> Scene:
+def load(path: PathLike, frame: float = 0) -> Scene:
     """Reads a scene file of any format glint reads, recognised by its content: native
     ``.glint``, CS123/CS1230 course XML or JSON, Ray Tracer Challenge YAML, Mitsuba 3 XML,
-    or a mesh (OBJ, PLY, glTF) framed by a fitted camera and two lights.
+    or a mesh (OBJ, PLY, glTF) framed by a fitted camera and two lights. An animated
+    ``.glint`` scene is read at ``frame`` (fractions allowed).
 
     Raises ``FileNotFoundError`` when the file does not exist, and :class:`SceneError`
     (a ``ValueError``) for a mistake in it, with ``file:line:column`` in its message and
@@ -101,7 +102,7 @@ def load(path: PathLike) -> Scene:
     name = os.fspath(path)
     if not os.path.exists(name):
         raise FileNotFoundError(errno.ENOENT, "no such scene file", name)
-    scene = _glint.load(name)
+    scene = _glint.load(name, float(frame))
     for warning in scene.warnings:
         warnings.warn(f"{name}: {warning}", SceneWarning, stacklevel=2)
     return scene

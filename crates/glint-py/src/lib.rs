@@ -6,6 +6,7 @@
 //! the `Image` array type on top.
 
 mod data;
+mod distributed;
 mod errors;
 mod image;
 mod render;
@@ -23,6 +24,11 @@ fn _glint(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scene::load_dict, m)?)?;
     m.add_function(wrap_pyfunction!(scene::default_scene, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
+    m.add_class::<distributed::Job>()?;
+    m.add_class::<distributed::Merger>()?;
+    m.add_function(wrap_pyfunction!(distributed::prepare, m)?)?;
+    m.add_function(wrap_pyfunction!(distributed::render_job_part, m)?)?;
+    m.add_function(wrap_pyfunction!(distributed::_job_from_json, m)?)?;
     m.add_function(wrap_pyfunction!(image::write, m)?)?;
     m.add_function(wrap_pyfunction!(image::read, m)?)?;
     m.add_function(wrap_pyfunction!(image::encode_png, m)?)?;

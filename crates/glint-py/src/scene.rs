@@ -74,10 +74,12 @@ impl Scene {
     }
 }
 
-/// Reads a scene file of any format glint reads.
+/// Reads a scene file of any format glint reads; a `.glint` scene's keyed properties
+/// are taken at `frame`.
 #[pyfunction]
-pub fn load(py: Python<'_>, path: PathBuf) -> PyResult<Scene> {
-    let loaded = py.detach(|| glint_scene::load_any(&path)).map_err(|e| scene_error(py, &e))?;
+#[pyo3(signature = (path, frame=0.0))]
+pub fn load(py: Python<'_>, path: PathBuf, frame: f64) -> PyResult<Scene> {
+    let loaded = py.detach(|| glint_scene::load_any_at(&path, frame)).map_err(|e| scene_error(py, &e))?;
     let format = match loaded.format {
         glint_scene::SceneFormat::Native => "native",
         glint_scene::SceneFormat::CourseXml => "course-xml",

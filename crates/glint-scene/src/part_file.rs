@@ -4,9 +4,9 @@
 //! Besides the part's own image (`R`, `G`, `B`, for a look), the file keeps what the
 //! merge needs bit for bit, as 32-bit float layers named by a tile's offset from a
 //! pixel's own tile: `tile-1+0.R`, `.G`, `.B` (weighted colour sums) and `.W` (weights);
-//! `samples.N` (samples per pixel, 32-bit unsigned); and, as header attributes, the
-//! part, the render's fingerprint, the filter's reach, the rays traced, the output
-//! transfer and the non-finite samples.
+//! `samples.N` (samples per pixel, 32-bit unsigned); and, in the header attribute
+//! `glint:part` (a list of `key=value`), the part, the render's fingerprint, the
+//! filter's reach, the rays traced, the output transfer and the non-finite samples.
 
 use std::collections::HashMap;
 use std::io::Cursor;
@@ -43,12 +43,14 @@ pub enum PartFileError {
     NotAPart { path: PathBuf, message: String },
 }
 
+/// The header attribute: a list of `key=value` entries with these keys.
 const PART: &str = "glint:part";
-const FINGERPRINT: &str = "glint:fingerprint";
-const REACH: &str = "glint:reach";
-const RAYS: &str = "glint:rays";
-const TRANSFER: &str = "glint:transfer";
-const NON_FINITE: &str = "glint:non-finite";
+const INDEX: &str = "part";
+const FINGERPRINT: &str = "fingerprint";
+const REACH: &str = "reach";
+const RAYS: &str = "rays";
+const TRANSFER: &str = "transfer";
+const NON_FINITE: &str = "non-finite";
 
 /// The layer name of a tile `(dx, dy)` tiles from a pixel's own.
 fn layer_name(layer: usize, reach: u32) -> String {
@@ -89,7 +91,6 @@ pub fn encode_part(film: &PartialFilm, meta: PartMeta) -> Result<Vec<u8>, String
 }
 
 fn header(film: &PartialFilm, meta: PartMeta) -> HashMap<Text, AttributeValue> {
-    let text = |s: String| AttributeValue::Text(Text::new_or_panic(s));
     let transfer = match meta.transfer {
         Transfer::Srgb => "srgb",
         Transfer::Identity => "identity",
@@ -105,14 +106,18 @@ fn header(film: &PartialFilm, meta: PartMeta) -> HashMap<Text, AttributeValue> {
         })
         .collect::<Vec<_>>()
         .join(";");
-    HashMap::from([
-        (Text::new_or_panic(PART), text(format!("{}/{}", film.part.index, film.part.count))),
-        (Text::new_or_panic(FINGERPRINT), text(format!("{:016x}", meta.fingerprint))),
-        (Text::new_or_panic(REACH), AttributeValue::I32(film.reach as i32)),
-        (Text::new_or_panic(RAYS), text(film.rays.to_string())),
-        (Text::new_or_panic(TRANSFER), text(transfer.to_string())),
-        (Text::new_or_panic(NON_FINITE), text(non_finite)),
-    ])
+    // One attribute holding an ordered list: exr keeps other attributes in a HashMap,
+    // whose order (and so the file's bytes) would change from run to run.
+    let entries = [
+        (INDEX, format!("{}/{}", film.part.index, film.part.count)),
+        (FINGERPRINT, format!("{:016x}", meta.fingerprint)),
+        (REACH, film.reach.to_string()),
+        (RAYS, film.rays.to_string()),
+        (TRANSFER, transfer.to_string()),
+        (NON_FINITE, non_finite),
+    ];
+    let list = entries.into_iter().map(|(key, value)| Text::new_or_panic(format!("{key}={value}"))).collect();
+    HashMap::from([(Text::new_or_panic(PART), AttributeValue::TextVector(list))])
 }
 
 /// Reads a part written by [`write_part`], within the image file size limit.
@@ -135,20 +140,23 @@ pub fn decode_part(bytes: &[u8], origin: &Path) -> Result<(PartialFilm, PartMeta
         .from_buffered(Cursor::new(bytes))
         .map_err(|e| not_a_part(format!("not a readable OpenEXR file ({e})")))?;
     let layer = &image.layer_data;
-    let attributes = &layer.attributes.other;
-    let text = |key: &str| match attributes.get(&Text::new_or_panic(key)) {
-        Some(AttributeValue::Text(t)) => Ok(t.to_string()),
-        _ => Err(not_a_part(format!("no '{key}' attribute"))),
+    let Some(AttributeValue::TextVector(list)) = layer.attributes.other.get(&Text::new_or_panic(PART)) else {
+        return Err(not_a_part(format!("no '{PART}' attribute")));
     };
+    let entries: std::collections::BTreeMap<String, String> = list
+        .iter()
+        .filter_map(|entry| entry.to_string().split_once('=').map(|(k, v)| (k.to_string(), v.to_string())))
+        .collect();
+    let text = |key: &str| entries.get(key).cloned().ok_or_else(|| not_a_part(format!("no '{key}' in '{PART}'")));
     let number = |key: &str, what: &str| {
         let value = text(key)?;
         let parsed = if key == FINGERPRINT { u64::from_str_radix(&value, 16).ok() } else { value.parse().ok() };
         parsed.ok_or_else(|| not_a_part(format!("'{key}' is not {what}: '{value}'")))
     };
-    let part = parse_part(&text(PART)?).ok_or_else(|| not_a_part("'glint:part' is not I/N".into()))?;
-    let reach = match attributes.get(&Text::new_or_panic(REACH)) {
-        Some(&AttributeValue::I32(r)) if (0..=8).contains(&r) => r as u32,
-        _ => return Err(not_a_part("no valid 'glint:reach' attribute".into())),
+    let part = parse_part(&text(INDEX)?).ok_or_else(|| not_a_part("'part' is not I/N".into()))?;
+    let reach = match text(REACH)?.parse::<u32>() {
+        Ok(r) if r <= 8 => r,
+        _ => return Err(not_a_part("'reach' is not a whole number from 0 to 8".into())),
     };
     let transfer = match text(TRANSFER)?.as_str() {
         "srgb" => Transfer::Srgb,
@@ -159,7 +167,7 @@ pub fn decode_part(bytes: &[u8], origin: &Path) -> Result<(PartialFilm, PartMeta
     let mut film = PartialFilm::empty(width, height, part, reach);
     film.rays = number(RAYS, "a count")?;
     film.non_finite =
-        parse_non_finite(&text(NON_FINITE)?).ok_or_else(|| not_a_part("bad 'glint:non-finite'".into()))?;
+        parse_non_finite(&text(NON_FINITE)?).ok_or_else(|| not_a_part("bad 'non-finite' tallies".into()))?;
     let channel = |name: &str| layer.channel_data.list.iter().find(|c| c.name.to_string() == name);
     let missing = |name: &str| not_a_part(format!("no channel '{name}'"));
     for (index, sums) in film.layers.iter_mut().enumerate() {

@@ -25,7 +25,7 @@ use crate::sampling::{PathSampler, PixelSampler, Rng, SamplePattern, hash};
 use crate::scene::RenderScene;
 pub use checkpoint::{CheckpointError, FinishedTile, Restored, TileStore, checkpoint_header, max_checkpoint_len};
 pub use non_finite::{NonFiniteSamples, SourceTally};
-pub use parts::{Part, PartError, PartialFilm, merge_parts, render_part};
+pub use parts::{Part, PartError, PartMerger, PartialFilm, merge_parts, render_part};
 
 /// Side of the square tiles the image is cut into.
 pub const TILE_SIZE: u32 = 16;

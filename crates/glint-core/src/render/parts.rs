@@ -150,35 +150,78 @@ pub fn render_part(
 /// The image and statistics of the whole render from all `count` of its parts (in any
 /// order): bit-identical to rendering it on one machine.
 pub fn merge_parts(parts: &[PartialFilm]) -> Result<(Image, RenderStats), PartError> {
-    let first = parts.first().ok_or(PartError::Missing { index: 0, count: 1 })?;
-    let count = first.part.count;
-    let same = |p: &PartialFilm| (p.width, p.height, p.reach, p.part.count, p.layers.len());
-    if parts.iter().any(|p| same(p) != same(first)) {
-        return Err(PartError::Mismatch("sizes, filters or part counts differ"));
+    let mut merger: Option<PartMerger> = None;
+    for part in parts {
+        match &mut merger {
+            None => merger = Some(PartMerger::new(part.clone())),
+            Some(m) => m.add(part)?,
+        }
     }
-    let mut seen = vec![false; count as usize];
-    for p in parts {
-        let index = p.part.index;
-        if index >= count || std::mem::replace(&mut seen[index as usize], true) {
+    merger.ok_or(PartError::Missing { index: 0, count: 1 })?.finish()
+}
+
+/// Parts merged as they arrive, in any order, holding one film's worth of memory: each
+/// tile's contribution to a pixel lives in exactly one part, so adding a part's layers
+/// to the sum so far is exact (the other parts add +0 there), and the final order of
+/// addition — tile order, across the layers — is applied when the merge finishes.
+#[derive(Clone, Debug)]
+pub struct PartMerger {
+    film: PartialFilm,
+    seen: Vec<bool>,
+}
+
+impl PartMerger {
+    /// A merge that starts with `first`.
+    pub fn new(first: PartialFilm) -> Self {
+        let mut seen = vec![false; first.part.count as usize];
+        seen[first.part.index as usize] = true;
+        Self { film: first, seen }
+    }
+
+    /// Adds a part of the same render.
+    pub fn add(&mut self, part: &PartialFilm) -> Result<(), PartError> {
+        let shape = |p: &PartialFilm| (p.width, p.height, p.reach, p.part.count, p.layers.len());
+        if shape(part) != shape(&self.film) {
+            return Err(PartError::Mismatch("sizes, filters or part counts differ"));
+        }
+        let (index, count) = (part.part.index, part.part.count);
+        if std::mem::replace(&mut self.seen[index as usize], true) {
             return Err(PartError::Twice { index, count });
         }
-    }
-    if let Some(index) = seen.iter().position(|&s| !s) {
-        return Err(PartError::Missing { index: index as u32, count });
-    }
-    let (sums, weights) = sum_in_tile_order(parts);
-    let mut stats = RenderStats { samples_per_pixel: vec![0; sums.len()], ..RenderStats::default() };
-    let mut ordered: Vec<&PartialFilm> = parts.iter().collect();
-    ordered.sort_by_key(|p| p.part.index);
-    for p in ordered {
-        stats.rays += p.rays;
-        stats.non_finite.merge(&p.non_finite);
+        for (mine, theirs) in self.film.layers.iter_mut().zip(&part.layers) {
+            for (m, t) in mine.iter_mut().zip(theirs) {
+                *m = [0, 1, 2, 3].map(|k| m[k] + t[k]);
+            }
+        }
         // A pixel's tile belongs to one part; the others hold 0 there.
-        for (total, &own) in stats.samples_per_pixel.iter_mut().zip(&p.samples) {
+        for (total, &own) in self.film.samples.iter_mut().zip(&part.samples) {
             *total += own;
         }
+        self.film.rays += part.rays;
+        self.film.non_finite.merge(&part.non_finite);
+        Ok(())
     }
-    Ok((resolve(first.width, first.height, sums, weights), stats))
+
+    /// Parts added so far, of how many.
+    pub fn progress(&self) -> (usize, usize) {
+        (self.seen.iter().filter(|&&s| s).count(), self.seen.len())
+    }
+
+    /// The image and statistics, once every part is in.
+    pub fn finish(self) -> Result<(Image, RenderStats), PartError> {
+        if let Some(index) = self.seen.iter().position(|&s| !s) {
+            return Err(PartError::Missing { index: index as u32, count: self.film.part.count });
+        }
+        let f = &self.film;
+        let (sums, weights) = sum_in_tile_order(std::slice::from_ref(f));
+        let stats = RenderStats {
+            rays: f.rays,
+            samples_per_pixel: f.samples.clone(),
+            aovs: None,
+            non_finite: f.non_finite.clone(),
+        };
+        Ok((resolve(f.width, f.height, sums, weights), stats))
+    }
 }
 
 /// Per pixel, the contributions of the tiles around it added in tile order, as a single
