@@ -20,17 +20,25 @@ use super::{MeshImport, Placement, degenerate_warning, mesh_error, read_limited}
 use crate::error::SceneError;
 use crate::input::{self, InputKind};
 
+/// Refuses a large file that is neither binary glTF nor JSON from its first bytes.
+pub fn check_head(path: &Path, head: &[u8]) -> Result<(), SceneError> {
+    let is_glb = head.starts_with(b"glTF");
+    let is_json = head.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{') || head.starts_with(b"\xef\xbb\xbf{");
+    if !(is_glb || is_json) {
+        return Err(mesh_error(path, 0, "not a glTF file: neither binary glTF ('glTF' magic) nor JSON"));
+    }
+    Ok(())
+}
+
+/// Reads the glTF or GLB file `path` and the buffers and images it names.
 pub fn load(path: &Path) -> Result<MeshImport, SceneError> {
-    // A large file that is neither binary glTF nor JSON is refused from its first bytes.
-    let bytes = read_limited(path, |head| {
-        let is_glb = head.starts_with(b"glTF");
-        let is_json =
-            head.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{') || head.starts_with(b"\xef\xbb\xbf{");
-        if !(is_glb || is_json) {
-            return Err(mesh_error(path, 0, "not a glTF file: neither binary glTF ('glTF' magic) nor JSON"));
-        }
-        Ok(())
-    })?;
+    parse(path, read_limited(path, |head| check_head(path, head))?)
+}
+
+/// Reads glTF or GLB `bytes` that came from `path` (which names it and locates the
+/// files it refers to). Takes the bytes by value so they are freed before the buffers
+/// are read.
+pub fn parse(path: &Path, bytes: Vec<u8>) -> Result<MeshImport, SceneError> {
     let gltf::Gltf { document: doc, blob } =
         gltf::Gltf::from_slice(&bytes).map_err(|e| mesh_error(path, 0, format!("invalid glTF: {e}")))?;
     drop(bytes);

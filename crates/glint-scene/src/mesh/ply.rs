@@ -79,13 +79,21 @@ enum Body<'a> {
     Binary { bytes: &'a [u8], at: usize },
 }
 
+/// Refuses a file that does not start with the PLY magic, before the rest of it is read.
+pub fn check_head(path: &Path, head: &[u8]) -> Result<(), SceneError> {
+    if !head.starts_with(b"ply\n") && !head.starts_with(b"ply\r\n") {
+        return Err(mesh_error(path, 0, "not a PLY file: it does not start with 'ply'"));
+    }
+    Ok(())
+}
+
+/// Reads the PLY file `path`.
 pub fn load(path: &Path) -> Result<MeshImport, SceneError> {
-    let bytes = read_limited(path, |head| {
-        if !head.starts_with(b"ply\n") && !head.starts_with(b"ply\r\n") {
-            return Err(mesh_error(path, 0, "not a PLY file: it does not start with 'ply'"));
-        }
-        Ok(())
-    })?;
+    parse(path, &read_limited(path, |head| check_head(path, head))?)
+}
+
+/// Reads PLY `bytes` that came from `path` (which names it in errors).
+pub fn parse(path: &Path, bytes: &[u8]) -> Result<MeshImport, SceneError> {
     // The header is text ending at `end_header`; refuse to look further than 64 KiB for it.
     let search = &bytes[..bytes.len().min(1 << 16)];
     let end = search
