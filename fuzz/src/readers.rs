@@ -17,8 +17,11 @@ use glint_scene::input::{InputLimits, set_limits};
 /// Where a fuzzed scene pretends to live: a folder that does not exist.
 const NOWHERE: &str = "/nonexistent-glint-fuzz";
 
+/// A reader as a target calls it.
+pub type Target = fn(&[u8]);
+
 /// Every target with its name, as `fuzz/run.sh` and the regression folders name them.
-pub const TARGETS: &[(&str, fn(&[u8]))] = &[
+pub const TARGETS: &[(&str, Target)] = &[
     ("native", native),
     ("course_xml", course_xml),
     ("course_json", course_json),

@@ -38,7 +38,7 @@ fn inputs(target: &str) -> Vec<PathBuf> {
 }
 
 /// Runs `read` on the bytes of `file` on its own thread; `Err` says how it failed.
-fn replay(read: fn(&[u8]), file: &Path) -> Result<(), String> {
+fn replay(read: readers::Target, file: &Path) -> Result<(), String> {
     let data = std::fs::read(file).map_err(|e| format!("cannot read it: {e}"))?;
     let (done, finished) = mpsc::channel();
     std::thread::spawn(move || {
@@ -55,7 +55,7 @@ fn replay(read: fn(&[u8]), file: &Path) -> Result<(), String> {
 /// Replays every input of every target, then lists all the failures at once.
 #[test]
 fn saved_fuzz_inputs_are_read_without_panic_or_hang() {
-    let targets = readers::TARGETS.iter().copied().chain([("render_scene", render_scene as fn(&[u8]))]);
+    let targets = readers::TARGETS.iter().copied().chain([("render_scene", render_scene as readers::Target)]);
     let mut failures = Vec::new();
     for (target, read) in targets {
         for file in inputs(target) {
