@@ -176,6 +176,11 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<MeshImport, SceneError> {
             .properties
             .iter()
             .position(|p| p.list.is_some() && (p.name == "vertex_indices" || p.name == "vertex_index"));
+        // An element without properties holds no bytes: however large its count, there is
+        // nothing to read, and counting through it could take minutes.
+        if element.properties.is_empty() {
+            continue;
+        }
         let mut values = vec![0.0f64; element.properties.len()];
         let mut polygon: Vec<f64> = Vec::new();
         for _ in 0..element.count {
