@@ -39,9 +39,11 @@ pub fn load(path: &Path) -> Result<MeshImport, SceneError> {
 /// files it refers to). Takes the bytes by value so they are freed before the buffers
 /// are read.
 pub fn parse(path: &Path, bytes: Vec<u8>) -> Result<MeshImport, SceneError> {
-    let gltf::Gltf { document: doc, blob } =
-        gltf::Gltf::from_slice(&bytes).map_err(|e| mesh_error(path, 0, format!("invalid glTF: {e}")))?;
+    let invalid = |e: gltf::Error| mesh_error(path, 0, format!("invalid glTF: {e}"));
+    let gltf::Gltf { document, blob } = gltf::Gltf::from_slice_without_validation(&bytes).map_err(invalid)?;
     drop(bytes);
+    check_position_accessors(path, document.as_json())?;
+    let doc = gltf::Document::from_json(document.into_json()).map_err(invalid)?;
     let buffers = buffers(path, &doc, blob)?;
     let mut state = State {
         path,
@@ -61,6 +63,28 @@ pub fn parse(path: &Path, bytes: Vec<u8>) -> Result<MeshImport, SceneError> {
         None => state.import.warnings.push(format!("{}: the file has no scene", path.display())),
     }
     Ok(state.import)
+}
+
+/// Refuses a primitive whose `POSITION` names an accessor that does not exist: the
+/// validation of gltf-json 1.4 indexes the accessor list with it unchecked
+/// (`primitive_validate_hook`) and panics, so this one index is checked first.
+fn check_position_accessors(path: &Path, json: &gltf::json::Root) -> Result<(), SceneError> {
+    use gltf::json::mesh::Semantic as JsonSemantic;
+    use gltf::json::validation::Checked;
+    let count = json.accessors.len();
+    for (m, mesh) in json.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let Some(index) = primitive.attributes.get(&Checked::Valid(JsonSemantic::Positions)) else { continue };
+            if index.value() >= count {
+                let message = format!(
+                    "invalid glTF: mesh {m} primitive {p}: POSITION names accessor {}, but there are {count}",
+                    index.value()
+                );
+                return Err(mesh_error(path, 0, message));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Where a URI in a glTF file points: bytes it carries (`data:`) or a file.
