@@ -176,6 +176,9 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<MeshImport, SceneError> {
             .properties
             .iter()
             .position(|p| p.list.is_some() && (p.name == "vertex_indices" || p.name == "vertex_index"));
+        if element.name == "vertex" && element.count > 0 && xyz.contains(&None) {
+            return Err(mesh_error(path, 0, "the PLY vertex element lacks x, y or z"));
+        }
         // An element without properties holds no bytes: however large its count, there is
         // nothing to read, and counting through it could take minutes.
         if element.properties.is_empty() {
