@@ -39,6 +39,7 @@ pub fn load(path: &Path) -> Result<MeshImport, SceneError> {
 /// files it refers to). Takes the bytes by value so they are freed before the buffers
 /// are read.
 pub fn parse(path: &Path, bytes: Vec<u8>) -> Result<MeshImport, SceneError> {
+    check_glb_length(path, &bytes)?;
     let invalid = |e: gltf::Error| mesh_error(path, 0, format!("invalid glTF: {e}"));
     let gltf::Gltf { document, blob } = gltf::Gltf::from_slice_without_validation(&bytes).map_err(invalid)?;
     drop(bytes);
@@ -63,6 +64,20 @@ pub fn parse(path: &Path, bytes: Vec<u8>) -> Result<MeshImport, SceneError> {
         None => state.import.warnings.push(format!("{}: the file has no scene", path.display())),
     }
     Ok(state.import)
+}
+
+/// Refuses a GLB whose header declares a total length shorter than the 12-byte header
+/// itself: gltf 1.4 subtracts 12 from it unchecked (`binary.rs`), which panics in a
+/// build with overflow checks.
+fn check_glb_length(path: &Path, bytes: &[u8]) -> Result<(), SceneError> {
+    const HEADER_BYTES: u32 = 12;
+    let Some(length) = bytes.strip_prefix(b"glTF").and_then(|rest| rest.get(4..8)) else { return Ok(()) };
+    let length = u32::from_le_bytes([length[0], length[1], length[2], length[3]]);
+    if length < HEADER_BYTES {
+        let message = format!("invalid glTF: the GLB header declares {length} bytes, fewer than the header itself");
+        return Err(mesh_error(path, 0, message));
+    }
+    Ok(())
 }
 
 /// Refuses a primitive whose `POSITION` names an accessor that does not exist: the
