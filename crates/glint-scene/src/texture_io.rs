@@ -126,7 +126,12 @@ fn load_image(name: &str, path: &Path, transfer: Transfer, float_formats: bool) 
 
 /// Decodes the bytes of an image file (`path` names it in errors and in the texture)
 /// within the size limits: PNG or JPEG, and with `float_formats` OpenEXR or Radiance HDR.
-pub(crate) fn decode_image(
+/// Public for images already in memory (glTF's embedded ones) and for fuzzing the decoder.
+///
+/// # Errors
+///
+/// As [`load_texture`], less the errors of reading the file.
+pub fn decode_image(
     name: &str,
     path: &Path,
     bytes: &[u8],

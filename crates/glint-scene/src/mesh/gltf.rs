@@ -20,20 +20,31 @@ use super::{MeshImport, Placement, degenerate_warning, mesh_error, read_limited}
 use crate::error::SceneError;
 use crate::input::{self, InputKind};
 
+/// Refuses a large file that is neither binary glTF nor JSON from its first bytes.
+pub fn check_head(path: &Path, head: &[u8]) -> Result<(), SceneError> {
+    let is_glb = head.starts_with(b"glTF");
+    let is_json = head.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{') || head.starts_with(b"\xef\xbb\xbf{");
+    if !(is_glb || is_json) {
+        return Err(mesh_error(path, 0, "not a glTF file: neither binary glTF ('glTF' magic) nor JSON"));
+    }
+    Ok(())
+}
+
+/// Reads the glTF or GLB file `path` and the buffers and images it names.
 pub fn load(path: &Path) -> Result<MeshImport, SceneError> {
-    // A large file that is neither binary glTF nor JSON is refused from its first bytes.
-    let bytes = read_limited(path, |head| {
-        let is_glb = head.starts_with(b"glTF");
-        let is_json =
-            head.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{') || head.starts_with(b"\xef\xbb\xbf{");
-        if !(is_glb || is_json) {
-            return Err(mesh_error(path, 0, "not a glTF file: neither binary glTF ('glTF' magic) nor JSON"));
-        }
-        Ok(())
-    })?;
-    let gltf::Gltf { document: doc, blob } =
-        gltf::Gltf::from_slice(&bytes).map_err(|e| mesh_error(path, 0, format!("invalid glTF: {e}")))?;
+    parse(path, read_limited(path, |head| check_head(path, head))?)
+}
+
+/// Reads glTF or GLB `bytes` that came from `path` (which names it and locates the
+/// files it refers to). Takes the bytes by value so they are freed before the buffers
+/// are read.
+pub fn parse(path: &Path, bytes: Vec<u8>) -> Result<MeshImport, SceneError> {
+    check_glb_length(path, &bytes)?;
+    let invalid = |e: gltf::Error| mesh_error(path, 0, format!("invalid glTF: {e}"));
+    let gltf::Gltf { document, blob } = gltf::Gltf::from_slice_without_validation(&bytes).map_err(invalid)?;
     drop(bytes);
+    check_position_accessors(path, document.as_json())?;
+    let doc = gltf::Document::from_json(document.into_json()).map_err(invalid)?;
     let buffers = buffers(path, &doc, blob)?;
     let mut state = State {
         path,
@@ -53,6 +64,42 @@ pub fn load(path: &Path) -> Result<MeshImport, SceneError> {
         None => state.import.warnings.push(format!("{}: the file has no scene", path.display())),
     }
     Ok(state.import)
+}
+
+/// Refuses a GLB whose header declares a total length shorter than the 12-byte header
+/// itself: gltf 1.4 subtracts 12 from it unchecked (`binary.rs`), which panics in a
+/// build with overflow checks.
+fn check_glb_length(path: &Path, bytes: &[u8]) -> Result<(), SceneError> {
+    const HEADER_BYTES: u32 = 12;
+    let Some(length) = bytes.strip_prefix(b"glTF").and_then(|rest| rest.get(4..8)) else { return Ok(()) };
+    let length = u32::from_le_bytes([length[0], length[1], length[2], length[3]]);
+    if length < HEADER_BYTES {
+        let message = format!("invalid glTF: the GLB header declares {length} bytes, fewer than the header itself");
+        return Err(mesh_error(path, 0, message));
+    }
+    Ok(())
+}
+
+/// Refuses a primitive whose `POSITION` names an accessor that does not exist: the
+/// validation of gltf-json 1.4 indexes the accessor list with it unchecked
+/// (`primitive_validate_hook`) and panics, so this one index is checked first.
+fn check_position_accessors(path: &Path, json: &gltf::json::Root) -> Result<(), SceneError> {
+    use gltf::json::mesh::Semantic as JsonSemantic;
+    use gltf::json::validation::Checked;
+    let count = json.accessors.len();
+    for (m, mesh) in json.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let Some(index) = primitive.attributes.get(&Checked::Valid(JsonSemantic::Positions)) else { continue };
+            if index.value() >= count {
+                let message = format!(
+                    "invalid glTF: mesh {m} primitive {p}: POSITION names accessor {}, but there are {count}",
+                    index.value()
+                );
+                return Err(mesh_error(path, 0, message));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Where a URI in a glTF file points: bytes it carries (`data:`) or a file.

@@ -90,12 +90,40 @@ pub(crate) fn read_limited(
 /// read, is not a mesh of its format, or holds invalid data (an index out of range, a
 /// coordinate that is not a number).
 pub fn load_mesh(path: &Path) -> Result<MeshImport, SceneError> {
-    let import = match MeshFormat::from_path(path) {
-        Some(MeshFormat::Obj) => obj::load(path)?,
-        Some(MeshFormat::Ply) => ply::load(path)?,
-        Some(MeshFormat::Gltf) => gltf::load(path)?,
-        None => return Err(mesh_error(path, 0, "not a mesh file: expected the extension .obj, .ply, .gltf or .glb")),
+    let import = match format_of(path)? {
+        MeshFormat::Obj => obj::load(path)?,
+        MeshFormat::Ply => ply::load(path)?,
+        MeshFormat::Gltf => gltf::load(path)?,
     };
+    with_triangles(path, import)
+}
+
+/// Reads mesh `bytes` that came from `path`, whose extension names the format; files
+/// it refers to (MTL libraries, glTF buffers and images) are found relative to `path`.
+/// For meshes held in memory, and for fuzzing the readers without touching the disk.
+///
+/// # Errors
+///
+/// As [`load_mesh`].
+pub fn parse_mesh(path: &Path, bytes: Vec<u8>) -> Result<MeshImport, SceneError> {
+    let format = format_of(path)?;
+    let head = &bytes[..bytes.len().min(4096)];
+    let import = match format {
+        MeshFormat::Obj => obj::check_head(path, head).and_then(|()| obj::parse(path, &bytes))?,
+        MeshFormat::Ply => ply::check_head(path, head).and_then(|()| ply::parse(path, &bytes))?,
+        MeshFormat::Gltf => gltf::check_head(path, head).and_then(|()| gltf::parse(path, bytes))?,
+    };
+    with_triangles(path, import)
+}
+
+/// The format `path`'s extension names, or an error naming the ones expected.
+fn format_of(path: &Path) -> Result<MeshFormat, SceneError> {
+    MeshFormat::from_path(path)
+        .ok_or_else(|| mesh_error(path, 0, "not a mesh file: expected the extension .obj, .ply, .gltf or .glb"))
+}
+
+/// Refuses an import with nothing to draw.
+fn with_triangles(path: &Path, import: MeshImport) -> Result<MeshImport, SceneError> {
     if import.meshes.iter().all(|m| m.indices.is_empty()) {
         return Err(mesh_error(path, 0, "the file holds no triangles"));
     }

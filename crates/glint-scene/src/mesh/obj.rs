@@ -21,14 +21,22 @@ struct Group {
     indices: Vec<u32>,
 }
 
+/// Refuses a file whose first bytes are binary, before the rest of it is read.
+pub fn check_head(path: &Path, head: &[u8]) -> Result<(), SceneError> {
+    if head.contains(&0) {
+        return Err(mesh_error(path, 0, "not an OBJ file: it holds binary data"));
+    }
+    Ok(())
+}
+
+/// Reads the OBJ file `path` (and the MTL libraries it names, relative to it).
 pub fn load(path: &Path) -> Result<MeshImport, SceneError> {
-    let bytes = read_limited(path, |head| {
-        if head.contains(&0) {
-            return Err(mesh_error(path, 0, "not an OBJ file: it holds binary data"));
-        }
-        Ok(())
-    })?;
-    let text = String::from_utf8_lossy(&bytes);
+    parse(path, &read_limited(path, |head| check_head(path, head))?)
+}
+
+/// Reads OBJ `bytes` that came from `path` (which names it and locates its MTL files).
+pub fn parse(path: &Path, bytes: &[u8]) -> Result<MeshImport, SceneError> {
+    let text = String::from_utf8_lossy(bytes);
     let mut positions: Vec<Vec3> = Vec::new();
     let mut normals: Vec<Vec3> = Vec::new();
     let mut uvs: Vec<Vec2> = Vec::new();

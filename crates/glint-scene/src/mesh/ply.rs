@@ -79,13 +79,21 @@ enum Body<'a> {
     Binary { bytes: &'a [u8], at: usize },
 }
 
+/// Refuses a file that does not start with the PLY magic, before the rest of it is read.
+pub fn check_head(path: &Path, head: &[u8]) -> Result<(), SceneError> {
+    if !head.starts_with(b"ply\n") && !head.starts_with(b"ply\r\n") {
+        return Err(mesh_error(path, 0, "not a PLY file: it does not start with 'ply'"));
+    }
+    Ok(())
+}
+
+/// Reads the PLY file `path`.
 pub fn load(path: &Path) -> Result<MeshImport, SceneError> {
-    let bytes = read_limited(path, |head| {
-        if !head.starts_with(b"ply\n") && !head.starts_with(b"ply\r\n") {
-            return Err(mesh_error(path, 0, "not a PLY file: it does not start with 'ply'"));
-        }
-        Ok(())
-    })?;
+    parse(path, &read_limited(path, |head| check_head(path, head))?)
+}
+
+/// Reads PLY `bytes` that came from `path` (which names it in errors).
+pub fn parse(path: &Path, bytes: &[u8]) -> Result<MeshImport, SceneError> {
     // The header is text ending at `end_header`; refuse to look further than 64 KiB for it.
     let search = &bytes[..bytes.len().min(1 << 16)];
     let end = search
@@ -168,6 +176,14 @@ pub fn load(path: &Path) -> Result<MeshImport, SceneError> {
             .properties
             .iter()
             .position(|p| p.list.is_some() && (p.name == "vertex_indices" || p.name == "vertex_index"));
+        if element.name == "vertex" && element.count > 0 && xyz.contains(&None) {
+            return Err(mesh_error(path, 0, "the PLY vertex element lacks x, y or z"));
+        }
+        // An element without properties holds no bytes: however large its count, there is
+        // nothing to read, and counting through it could take minutes.
+        if element.properties.is_empty() {
+            continue;
+        }
         let mut values = vec![0.0f64; element.properties.len()];
         let mut polygon: Vec<f64> = Vec::new();
         for _ in 0..element.count {
