@@ -188,7 +188,7 @@ def render(
         scene = load(scene)
     callback, close = _progress_callback(progress)
     try:
-        pixels, transfer = _glint.render(
+        job = _glint.prepare(
             scene,
             spp=spp,
             width=width,
@@ -203,9 +203,8 @@ def render(
             filter=filter,
             filter_radius=filter_radius,
             adaptive=adaptive,
-            threads=threads,
-            progress=callback,
         )
+        pixels, transfer = _glint.render_job(job, threads=threads, progress=callback)
     finally:
         close()
     return Image(pixels, transfer)

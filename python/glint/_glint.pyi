@@ -35,24 +35,8 @@ class Scene:
 def load(path: str, frame: float = 0.0) -> Scene: ...
 def load_dict(data: Mapping[str, Any], base_dir: str) -> Scene: ...
 def default_scene() -> Scene: ...
-def render(
-    scene: Scene,
-    *,
-    spp: Optional[int] = None,
-    width: Optional[int] = None,
-    height: Optional[int] = None,
-    integrator: Optional[str] = None,
-    seed: Optional[int] = None,
-    samples: Optional[int] = None,
-    max_depth: Union[int, str, None] = None,
-    rr_depth: Optional[int] = None,
-    sampler: Optional[str] = None,
-    pattern: Optional[str] = None,
-    filter: Optional[str] = None,
-    filter_radius: Optional[float] = None,
-    adaptive: Optional[Tuple[int, int, float]] = None,
-    threads: int = 0,
-    progress: Optional[Callable[[int, int], Any]] = None,
+def render_job(
+    job: Job, *, threads: int = 0, progress: Optional[Callable[[int, int], Any]] = None
 ) -> Tuple[npt.NDArray[np.float32], str]: ...
 def write(path: str, image: npt.NDArray[np.float32], transfer: str = "srgb", format: Optional[str] = None) -> None: ...
 def read(path: str) -> npt.NDArray[np.float32]: ...

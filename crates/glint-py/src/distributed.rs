@@ -34,9 +34,15 @@ impl Job {
         Self { desc, compiled: OnceLock::new() }
     }
 
-    fn scene(&self, py: Python<'_>) -> PyResult<&RenderScene> {
+    /// The compiled scene, built on first use in this process.
+    pub fn scene(&self, py: Python<'_>) -> PyResult<&RenderScene> {
         let compiled = self.compiled.get_or_init(|| py.detach(|| compile(&self.desc).map_err(|e| e.to_string())));
         compiled.as_ref().map_err(compile_error)
+    }
+
+    /// How 8/16-bit outputs of this scene are encoded: `"srgb"` or `"identity"`.
+    pub fn transfer(&self) -> &'static str {
+        transfer_name(self.desc.settings.output_transfer)
     }
 
     /// The fingerprint parts carry, so parts of different jobs are never merged.
@@ -75,6 +81,7 @@ pub fn _job_from_json(json: &[u8]) -> PyResult<Job> {
     filter_radius=None, adaptive=None))]
 #[allow(clippy::too_many_arguments)] // Python keyword arguments, one per command-line flag.
 pub fn prepare(
+    py: Python<'_>,
     scene: &Scene,
     spp: Option<u32>,
     width: Option<u32>,
@@ -107,8 +114,11 @@ pub fn prepare(
     };
     let mut desc = scene.desc.clone();
     kwargs.overrides()?.apply(&mut desc).map_err(override_error)?;
-    compile(&desc).map_err(|e| compile_error(&e))?;
-    Ok(Job::new(desc))
+    // Compiled here, so a scene that cannot render fails at once, and kept for a render
+    // in this process.
+    let job = Job::new(desc);
+    job.scene(py)?;
+    Ok(job)
 }
 
 /// Renders part `index` of `count` of `job` on `threads` threads (0: every core) with
@@ -176,10 +186,13 @@ impl Merger {
     fn finish<'py>(&mut self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, &'static str)> {
         let (merger, meta) = self.merger.take().ok_or_else(|| PyValueError::new_err("no part was added"))?;
         let (image, _stats) = merger.finish().map_err(|e| PyValueError::new_err(e.to_string()))?;
-        let transfer = match meta.transfer {
-            glint_core::film::Transfer::Srgb => "srgb",
-            glint_core::film::Transfer::Identity => "identity",
-        };
-        Ok((to_array(py, &image)?, transfer))
+        Ok((to_array(py, &image)?, transfer_name(meta.transfer)))
+    }
+}
+
+fn transfer_name(transfer: glint_core::film::Transfer) -> &'static str {
+    match transfer {
+        glint_core::film::Transfer::Srgb => "srgb",
+        glint_core::film::Transfer::Identity => "identity",
     }
 }

@@ -23,7 +23,7 @@ fn _glint(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scene::load, m)?)?;
     m.add_function(wrap_pyfunction!(scene::load_dict, m)?)?;
     m.add_function(wrap_pyfunction!(scene::default_scene, m)?)?;
-    m.add_function(wrap_pyfunction!(render::render, m)?)?;
+    m.add_function(wrap_pyfunction!(render::render_job, m)?)?;
     m.add_class::<distributed::Job>()?;
     m.add_class::<distributed::Merger>()?;
     m.add_function(wrap_pyfunction!(distributed::prepare, m)?)?;

@@ -6,73 +6,35 @@ use std::time::Duration;
 
 use glint_core::film::Image;
 use glint_core::render::RenderError;
-use glint_core::scene::{RenderScene, compile};
+use glint_core::scene::RenderScene;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 
-use crate::errors::compile_error;
-use crate::scene::Scene;
-use crate::settings::{MaxDepth, RenderKwargs, override_error};
+use crate::distributed::Job;
 
 /// How often the waiting thread reports progress and looks for Ctrl-C.
 const POLL: Duration = Duration::from_millis(50);
 
-/// Renders `scene` with the command line's overrides; returns the linear RGB pixels as a
-/// float32 array (height, width, 3) and the scene's output transfer (`"srgb"` or
-/// `"identity"`) for writing 8-bit images. `progress(done, total)` is called with tiles.
+/// Renders `job` (a scene with its settings applied, [`crate::distributed::prepare`]);
+/// returns the linear RGB pixels as a float32 array (height, width, 3) and the scene's
+/// output transfer (`"srgb"` or `"identity"`) for writing 8-bit images.
+/// `progress(done, total)` is called with tiles.
 #[pyfunction]
-#[pyo3(signature = (scene, *, spp=None, width=None, height=None, integrator=None, seed=None,
-    samples=None, max_depth=None, rr_depth=None, sampler=None, pattern=None, filter=None,
-    filter_radius=None, adaptive=None, threads=0, progress=None))]
-#[allow(clippy::too_many_arguments)] // Python keyword arguments, one per command-line flag.
-pub fn render<'py>(
+#[pyo3(signature = (job, *, threads=0, progress=None))]
+pub fn render_job<'py>(
     py: Python<'py>,
-    scene: &Scene,
-    spp: Option<u32>,
-    width: Option<u32>,
-    height: Option<u32>,
-    integrator: Option<String>,
-    seed: Option<u32>,
-    samples: Option<u32>,
-    max_depth: Option<MaxDepth>,
-    rr_depth: Option<u32>,
-    sampler: Option<String>,
-    pattern: Option<String>,
-    filter: Option<String>,
-    filter_radius: Option<f32>,
-    adaptive: Option<(u32, u32, f32)>,
+    job: &Job,
     threads: usize,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<(Bound<'py, PyAny>, &'static str)> {
-    let kwargs = RenderKwargs {
-        width,
-        height,
-        samples,
-        spp,
-        integrator,
-        max_depth,
-        rr_depth,
-        sampler,
-        pattern,
-        filter,
-        filter_radius,
-        adaptive,
-        seed,
-    };
-    let mut desc = scene.desc.clone();
-    kwargs.overrides()?.apply(&mut desc).map_err(override_error)?;
-    let compiled = py.detach(|| compile(&desc)).map_err(|e| compile_error(&e))?;
+    let compiled = job.scene(py)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-    let image = render_waiting(py, &compiled, &pool, progress.as_ref())?;
-    let transfer = match desc.settings.output_transfer {
-        glint_core::film::Transfer::Srgb => "srgb",
-        glint_core::film::Transfer::Identity => "identity",
-    };
-    Ok((to_array(py, &image)?, transfer))
+    let image = render_waiting(py, compiled, &pool, progress.as_ref())?;
+    Ok((to_array(py, &image)?, job.transfer()))
 }
 
 /// Traces on `pool` in a scoped thread while this thread, every [`POLL`], takes the GIL
