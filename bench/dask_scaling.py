@@ -60,7 +60,7 @@ def main() -> None:
         with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
             with Client(cluster) as client:
                 client.wait_for_workers(workers)
-                upload, shared = timed(client.scatter, job, broadcast=True)
+                upload, shared = timed(client.scatter, job, broadcast=True, hash=False)
                 del shared
                 # One warm-up render so every worker has imported glint and compiled the scene.
                 glint.distributed.render(scene, client, parts=workers, progress=False, **settings)

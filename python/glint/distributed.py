@@ -67,7 +67,9 @@ def render(
     count = parts if parts is not None else _default_parts(client, job.tiles)
     if not 1 <= count <= job.tiles:
         raise ValueError(f"parts must be from 1 to the image's {job.tiles} tiles, got {count}")
-    shared = client.scatter(job, broadcast=True)
+    # A key of its own (hash=False): two renders of the same job must not share one,
+    # or the first to finish would release the other's copy.
+    shared = client.scatter(job, broadcast=True, hash=False)
     token = uuid.uuid4().hex
     futures = [
         client.submit(_render_part, shared, index, count, key=f"glint-part-{token}-{index}", retries=retries)
