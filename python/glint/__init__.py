@@ -182,14 +182,10 @@ def render(
     as ``rr_depth`` with the Whitted integrator), and :class:`SceneError` for a scene
     that cannot be rendered (a degenerate camera, an image too large).
     """
-    if isinstance(scene, Mapping):
-        scene = load_dict(scene)
-    elif not isinstance(scene, Scene):
-        scene = load(scene)
     callback, close = _progress_callback(progress)
     try:
         job = _glint.prepare(
-            scene,
+            _as_scene(scene),
             spp=spp,
             width=width,
             height=height,
@@ -208,6 +204,15 @@ def render(
     finally:
         close()
     return Image(pixels, transfer)
+
+
+def _as_scene(scene: Union[Scene, PathLike, Mapping[str, Any]]) -> Scene:
+    """A :class:`Scene` as given, a dict read by :func:`load_dict`, or a path by :func:`load`."""
+    if isinstance(scene, Scene):
+        return scene
+    if isinstance(scene, Mapping):
+        return load_dict(scene)
+    return load(scene)
 
 
 def _progress_callback(

@@ -21,17 +21,9 @@ import os
 import uuid
 from typing import Any, Iterable, List, Mapping, Optional, Sequence, Union
 
-from . import Image, Scene, _glint, _progress_callback, load, load_dict, write
+from . import Image, Scene, _as_scene, _glint, _progress_callback, write
 
 __all__ = ["render", "render_frames"]
-
-
-def _scene(scene: Union[Scene, str, "os.PathLike[str]", Mapping[str, Any]]) -> Scene:
-    if isinstance(scene, Scene):
-        return scene
-    if isinstance(scene, Mapping):
-        return load_dict(scene)
-    return load(scene)
 
 
 def _default_parts(client: Any, tiles: int) -> int:
@@ -63,7 +55,7 @@ def render(
     the image is cut into. ``progress`` is as in :func:`glint.render`, counting parts.
     ``retries`` is how often a part whose worker died is run again.
     """
-    job = _glint.prepare(_scene(scene), **overrides)
+    job = _glint.prepare(_as_scene(scene), **overrides)
     count = parts if parts is not None else _default_parts(client, job.tiles)
     if not 1 <= count <= job.tiles:
         raise ValueError(f"parts must be from 1 to the image's {job.tiles} tiles, got {count}")
