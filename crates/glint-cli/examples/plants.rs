@@ -34,7 +34,15 @@ fn mesh(name: &str, positions: Vec<Vec3>, indices: Vec<u32>) -> MeshDesc {
         }
     }
     let normals = normals.into_iter().map(|n| n.normalize_or(Vec3::Y)).collect();
-    MeshDesc { name: name.into(), path: String::new(), positions, normals, uvs: Vec::new(), indices }
+    MeshDesc {
+        name: name.into(),
+        path: String::new(),
+        positions,
+        normals,
+        uvs: Vec::new(),
+        colors: Vec::new(),
+        indices,
+    }
 }
 
 /// Revolves `profile` ((radius, height) pairs, bottom to top) around the y axis.

@@ -56,6 +56,11 @@ pub struct MeshDesc {
     pub normals: Vec<Vec3>,
     /// Per-vertex texture coordinates: empty, or one per position.
     pub uvs: Vec<Vec2>,
+    /// Per-vertex colours in linear RGB: empty, or one per position. They multiply the
+    /// material's diffuse (base) colour, as glTF's `COLOR_0` and PLY's `red green blue`
+    /// mean them.
+    #[serde(default)]
+    pub colors: Vec<Vec3>,
     /// Three vertex indices per triangle, counter-clockwise seen from outside.
     pub indices: Vec<u32>,
 }

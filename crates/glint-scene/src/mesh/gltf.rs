@@ -288,6 +288,7 @@ impl State<'_> {
             path: self.path.display().to_string(),
             normals: if normals.len() == count { normals } else { vec![] },
             uvs: if uvs.len() == count { uvs } else { vec![] },
+            colors: vec![],
             positions,
             indices: indices[..indices.len() / 3 * 3].to_vec(),
         }))

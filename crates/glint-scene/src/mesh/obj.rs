@@ -132,6 +132,7 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<MeshImport, SceneError> {
             positions: group.corners.iter().map(|c| positions[c.0 as usize]).collect(),
             normals: if has(|c| c.2) { group.corners.iter().map(|c| normals[c.2 as usize]).collect() } else { vec![] },
             uvs: if has(|c| c.1) { group.corners.iter().map(|c| uvs[c.1 as usize]).collect() } else { vec![] },
+            colors: vec![],
             indices: group.indices,
         };
         degenerate_warning(path, &mesh, &mut import.warnings);

@@ -251,6 +251,7 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<MeshImport, SceneError> {
         path: path.display().to_string(),
         normals: if normals.len() == positions.len() { normals } else { vec![] },
         uvs: if uvs.len() == positions.len() { uvs } else { vec![] },
+        colors: vec![],
         positions,
         indices,
     };
