@@ -115,6 +115,9 @@ pub struct Hit {
     /// ([`crate::mesh::MeshSurface::shadow_point`]).
     pub shadow_point: Vec3,
     pub uv: Vec2,
+    /// The vertex colour at the hit (white where the surface has none): it multiplies
+    /// the material's diffuse or base colour.
+    pub color: Vec3,
     pub material: u32,
     /// Which instance was hit, and which part of it (a mesh's triangle, a cube's face).
     pub instance: u32,
@@ -591,6 +594,7 @@ impl RenderScene {
                 geometric_normal: normal,
                 shadow_point: point,
                 uv: surface.uv,
+                color: Vec3::ONE,
                 material,
                 instance: index,
                 part: hit.part,
@@ -606,6 +610,7 @@ impl RenderScene {
             geometric_normal: xf.normal_to_world(geometric).normalize_or(normal),
             shadow_point: xf.point_to_world(shadow_point),
             uv: surface.uv,
+            color: m.color,
             material,
             instance: index,
             part: hit.part,

@@ -164,3 +164,51 @@ fn packets_find_what_single_rays_find() {
     }
     assert!(tested > 3000, "too few rays hit anything: {tested}");
 }
+
+/// The octahedron rendered with no highlights, so that a uniform vertex colour `tint`
+/// must scale every pixel by exactly `tint` (one convex object: no inter-reflection).
+fn tinted_render(tint: Option<Vec3>, integrator: IntegratorDesc) -> Image {
+    let mut desc = base();
+    desc.settings.integrator = integrator;
+    desc.settings.spp = Some(4);
+    desc.materials[0] = MaterialDesc { specular: Vec3::ZERO, bsdf: None, ..Default::default() };
+    let mut mesh = octahedron();
+    if let Some(tint) = tint {
+        mesh.colors = vec![tint; mesh.positions.len()];
+    }
+    desc.meshes.push(mesh);
+    desc.objects = vec![node(0, vec![])];
+    render_desc(&desc)
+}
+
+#[test]
+fn a_vertex_colour_tints_the_diffuse_colour_under_both_integrators() {
+    let tint = Vec3::new(0.9, 0.4, 0.1);
+    for integrator in [IntegratorDesc::Whitted, IntegratorDesc::Path(PathDesc::default())] {
+        let plain = tinted_render(None, integrator);
+        let tinted = tinted_render(Some(tint), integrator);
+        let lit = plain.pixels.iter().filter(|p| p.max_element() > 0.05).count();
+        assert!(lit > 100, "{integrator:?}: the octahedron is lit in {lit} pixels");
+        for (p, t) in plain.pixels.iter().zip(&tinted.pixels) {
+            assert!((*p * tint - *t).abs().max_element() < 1e-4, "{integrator:?}: {p} tinted by {tint} gave {t}");
+        }
+    }
+}
+
+#[test]
+fn vertex_colours_are_interpolated_across_the_triangle() {
+    let mut desc = base();
+    let positions = vec![Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, -1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
+    let colors = vec![Vec3::X, Vec3::Y, Vec3::Z];
+    desc.meshes.push(MeshDesc { positions, colors, indices: vec![0, 1, 2], ..Default::default() });
+    desc.objects = vec![node(0, vec![TransformOp::Scale(Vec3::splat(2.0))])];
+    let scene = compile(&desc).unwrap();
+    // Straight down the z axis through the centroid (0, −1/3) of the scaled triangle.
+    let centroid = Vec3::new(0.0, -2.0 / 3.0, 5.0);
+    let hit = scene.intersect(&glint_core::math::Ray::new(centroid, Vec3::NEG_Z), f32::INFINITY).unwrap();
+    assert!((hit.color - Vec3::splat(1.0 / 3.0)).abs().max_element() < 1e-5, "{}", hit.color);
+    // Near the red corner.
+    let corner = Vec3::new(-1.9, -1.95, 5.0);
+    let hit = scene.intersect(&glint_core::math::Ray::new(corner, Vec3::NEG_Z), f32::INFINITY).unwrap();
+    assert!(hit.color.x > 0.9 && hit.color.y < 0.1, "{}", hit.color);
+}

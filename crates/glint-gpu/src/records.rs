@@ -148,7 +148,8 @@ pub struct GpuMesh {
     pub uv_offset: u32,
     /// Whether the mesh has nodes at all (an empty mesh hits nothing).
     pub node_count: u32,
-    pub reserved: u32,
+    /// Float-array index of the vertex colours, or [`NONE`] without them.
+    pub color_offset: u32,
 }
 
 /// "No such array" in an offset field.
@@ -162,7 +163,7 @@ gpu_record!(pub GPU_MESH = GpuMesh as "GpuMesh" {
     normal_offset: U32 => normal_offset,
     uv_offset: U32 => uv_offset,
     node_count: U32 => node_count,
-    reserved: U32 => reserved,
+    color_offset: U32 => color_offset,
 });
 
 /// Everything a pass needs besides the scene arrays: image and sample range, the

@@ -113,6 +113,7 @@ impl GpuScene {
             let normal_offset = if mesh.normals.is_empty() { NONE } else { a.push_vec3s(&mesh.normals) };
             let uv_offset =
                 if mesh.uvs.is_empty() { NONE } else { a.push_floats(mesh.uvs.iter().flat_map(|v| v.to_array())) };
+            let color_offset = if mesh.colors.is_empty() { NONE } else { a.push_vec3s(&mesh.colors) };
             let index_offset = a.words.len() as u32;
             a.words.extend(mesh.triangles.iter().flatten());
             a.meshes.push(GpuMesh {
@@ -123,7 +124,7 @@ impl GpuScene {
                 normal_offset,
                 uv_offset,
                 node_count: mesh.bvh.nodes.len() as u32,
-                reserved: 0,
+                color_offset,
             });
         }
         let texel_offset = a.push_vec3s(&scene.texels);

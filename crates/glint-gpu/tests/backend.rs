@@ -99,6 +99,18 @@ fn every_emitter_matches_the_cpu() {
 }
 
 #[test]
+fn vertex_colours_match_the_cpu() {
+    let Some(gpu) = gpu() else { return };
+    let source = with_ball(
+        "light point { position [1.5 2 2] color [2 2 2] }\n\
+         material \"gold\" { bsdf conductor { roughness 0.2 } }\n\
+         mesh_instance \"ball\" { material \"white\" scale 0.5 translate [-0.5 0.5 0] }\n\
+         mesh_instance \"ball\" { material \"gold\" scale 0.4 translate [0.6 0.4 0.2] }\n",
+    );
+    check("vertex colours", &painted_scene(&source, 40, 32, Some(8)), &gpu);
+}
+
+#[test]
 fn an_environment_map_matches_the_cpu() {
     let Some(gpu) = gpu() else { return };
     let map = concat!(env!("CARGO_MANIFEST_DIR"), "/../../bench/mitsuba/assets/envmap.exr");

@@ -181,6 +181,17 @@ fn a_smooth_mesh_matches_the_cpu() {
 }
 
 #[test]
+fn vertex_colours_match_the_cpu() {
+    let Some(gpu) = gpu() else { return };
+    let source = with_ball(
+        "light point { position [1 2.5 2] color 0.9 }\n\
+         mesh_instance \"ball\" { material \"clay\" scale 0.5 translate [-0.4 0.5 0] }\n\
+         mesh_instance \"ball\" { material \"tiled\" scale 0.4 translate [0.6 0.4 0.2] }\n",
+    );
+    check("whitted vertex colours", &painted_scene(&source, 40, 32, None), &gpu);
+}
+
+#[test]
 fn an_environment_map_background_matches_the_cpu() {
     let Some(gpu) = gpu() else { return };
     let map = concat!(env!("CARGO_MANIFEST_DIR"), "/../../bench/mitsuba/assets/envmap.exr");

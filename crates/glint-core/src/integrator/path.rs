@@ -87,7 +87,8 @@ pub fn radiance(
         };
         let wo_world = -ray.dir.normalize();
         let record = &scene.bsdfs[hit.material as usize];
-        let bsdf = record.at(hit.uv, |i, uv| scene.texture(i, uv));
+        let mut bsdf = record.at(hit.uv, |i, uv| scene.texture(i, uv));
+        bsdf.color *= hit.color;
         if let Some(aov) = aov.take() {
             *aov = Aov { albedo: bsdf.albedo(), normal: hit.normal, depth: hit.t * ray.dir.length() };
         }

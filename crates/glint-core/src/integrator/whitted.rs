@@ -129,8 +129,9 @@ fn direct_lighting(
     let features = scene.settings.features;
     let texel =
         (features.textures && m.texture != NO_TEXTURE).then(|| scene.texture(m.texture, hit.uv * m.texture_repeat));
-    let diffuse = m.diffuse_with(texel);
-    let mut color = scene.settings.ambient_light * m.ambient;
+    // Vertex colours tint the object's own colours (ambient and diffuse), not highlights.
+    let diffuse = m.diffuse_with(texel) * hit.color;
+    let mut color = scene.settings.ambient_light * m.ambient * hit.color;
     observer.term("ambient L_a·k_a·O_a", color);
     // Seen from outside, a smooth mesh's shadow rays start on the surface its normals
     // describe (Hanika 2021), which removes the jagged self-shadow at the terminator.

@@ -28,6 +28,8 @@ pub struct Mesh {
     pub normals: Vec<Vec3>,
     /// Per-vertex texture coordinates, or empty (the barycentric `(b1, b2)` are used).
     pub uvs: Vec<Vec2>,
+    /// Per-vertex colours in linear RGB, or empty (white): they tint the material.
+    pub colors: Vec<Vec3>,
     pub triangles: Vec<[u32; 3]>,
     /// Built with the binary SAH builder (a leaf costs one test per four triangles), then
     /// collapsed to eight children per node. Its leaves index [`Mesh::packets`]: a
@@ -45,6 +47,8 @@ pub struct Mesh {
 pub struct MeshSurface {
     /// The point, the shading normal (interpolated, pointing outside) and uv.
     pub surface: SurfacePoint,
+    /// The interpolated vertex colour (white without vertex colours).
+    pub color: Vec3,
     /// The triangle's plane normal, on the side of the shading normal.
     pub geometric: Vec3,
     /// Where shadow rays toward lights outside should start (see [`terminator_point`]).
@@ -105,7 +109,12 @@ impl Mesh {
         if let Some(i) = desc.positions.iter().position(|p| !p.is_finite()) {
             return Err(MeshError::NonFinite(i));
         }
-        for (what, found) in [("the normal list", desc.normals.len()), ("the uv list", desc.uvs.len())] {
+        let attributes = [
+            ("the normal list", desc.normals.len()),
+            ("the uv list", desc.uvs.len()),
+            ("the colour list", desc.colors.len()),
+        ];
+        for (what, found) in attributes {
             if found != 0 && found != count {
                 return Err(MeshError::AttributeCount { what, found, count });
             }
@@ -130,10 +139,17 @@ impl Mesh {
             Vec::new()
         };
         let uvs = if desc.uvs.iter().all(|uv| uv.is_finite()) { desc.uvs.clone() } else { Vec::new() };
+        // Negative or non-finite colours are no colours at all: the material shows plain.
+        let colors = if desc.colors.iter().all(|c| c.is_finite() && c.min_element() >= 0.0) {
+            desc.colors.clone()
+        } else {
+            vec![]
+        };
         let mut mesh = Mesh {
             positions: desc.positions.clone(),
             normals,
             uvs,
+            colors,
             triangles,
             bvh: WideBvh::default(),
             degenerate,
@@ -193,6 +209,9 @@ impl Mesh {
         }
         if !self.uvs.is_empty() {
             self.uvs = old_of_new.iter().map(|&i| self.uvs[i as usize]).collect();
+        }
+        if !self.colors.is_empty() {
+            self.colors = gather(&self.colors);
         }
     }
 
@@ -409,7 +428,12 @@ impl Mesh {
         } else {
             bary.x * self.uvs[i0] + bary.y * self.uvs[i1] + bary.z * self.uvs[i2]
         };
-        MeshSurface { surface: SurfacePoint { point, normal, uv }, geometric, shadow_point }
+        let color = if self.colors.is_empty() {
+            Vec3::ONE
+        } else {
+            bary.x * self.colors[i0] + bary.y * self.colors[i1] + bary.z * self.colors[i2]
+        };
+        MeshSurface { surface: SurfacePoint { point, normal, uv }, color, geometric, shadow_point }
     }
 
     /// Heap bytes of the compiled mesh: each array's length times its element size
@@ -420,6 +444,7 @@ impl Mesh {
         self.positions.len() * size_of::<Vec3>()
             + self.normals.len() * size_of::<Vec3>()
             + self.uvs.len() * size_of::<Vec2>()
+            + self.colors.len() * size_of::<Vec3>()
             + self.triangles.len() * size_of::<[u32; 3]>()
             + self.packets.len() * size_of::<Triangle4>()
             + self.bvh.nodes.len() * size_of::<crate::accel::WideNode>()

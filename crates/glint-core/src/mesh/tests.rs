@@ -119,7 +119,7 @@ fn shading_normal_and_uv_are_interpolated() {
     let mesh = Mesh::compile(&desc).unwrap();
     let ray = Ray::new(Vec3::new(0.5, 0.25, 1.0), Vec3::NEG_Z);
     let hit = mesh.intersect(&ray, f32::INFINITY).unwrap();
-    let MeshSurface { surface, geometric, shadow_point } = mesh.surface(&ray, hit);
+    let MeshSurface { surface, geometric, shadow_point, .. } = mesh.surface(&ray, hit);
     // A flat triangle whose normals lean outward: the shadow point rises above it.
     assert!(shadow_point.z > 0.0 && (shadow_point.truncate() - surface.point.truncate()).length() < 0.2);
     assert!((hit.t - 1.0).abs() < 1e-6);

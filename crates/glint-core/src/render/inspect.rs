@@ -90,7 +90,7 @@ fn albedo(scene: &RenderScene, hit: &Hit) -> Vec3 {
     let m = &scene.materials[hit.material as usize];
     let texel = (scene.settings.features.textures && m.texture != NO_TEXTURE)
         .then(|| scene.texture(m.texture, hit.uv * m.texture_repeat));
-    m.diffuse_with(texel)
+    m.diffuse_with(texel) * hit.color
 }
 
 /// Blue (0) through green and yellow to red (1): a heat map that stays readable.

@@ -345,7 +345,7 @@ fn whitted_aov(scene: &RenderScene, ray: &Ray, hit: Option<&crate::scene::Hit>) 
     let m = &scene.materials[hit.material as usize];
     let texel = (scene.settings.features.textures && m.texture != crate::material::NO_TEXTURE)
         .then(|| scene.texture(m.texture, hit.uv * m.texture_repeat));
-    Aov { albedo: m.diffuse_with(texel), normal: hit.normal, depth: hit.t * ray.dir.length() }
+    Aov { albedo: m.diffuse_with(texel) * hit.color, normal: hit.normal, depth: hit.t * ray.dir.length() }
 }
 
 /// A camera sample ready to trace: its film position (pixels), its ray, and the

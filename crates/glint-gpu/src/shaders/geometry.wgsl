@@ -712,6 +712,8 @@ struct Hit {
     // Where shadow rays leaving the outside start: `point`, lifted on smooth meshes.
     shadow_point: vec3<f32>,
     uv: vec2<f32>,
+    // The vertex colour (white without one): it tints the diffuse or base colour.
+    color: vec3<f32>,
     material: u32,
     instance: u32,
     part: u32,
@@ -768,6 +770,7 @@ fn hit_from(r: Ray, found: SceneHit) -> Hit {
         hit.geometric_normal = n;
         hit.shadow_point = hit.point;
         hit.uv = s.uv;
+        hit.color = vec3<f32>(1.0);
         return hit;
     }
     let mesh = meshes[bitcast<u32>(inst.param)];
@@ -802,6 +805,13 @@ fn hit_from(r: Ray, found: SceneHit) -> Hit {
         let u1 = vec2<f32>(floats[mesh.uv_offset + 2u * i1], floats[mesh.uv_offset + 2u * i1 + 1u]);
         let u2 = vec2<f32>(floats[mesh.uv_offset + 2u * i2], floats[mesh.uv_offset + 2u * i2 + 1u]);
         uv = bary.x * u0 + bary.y * u1 + bary.z * u2;
+    }
+    hit.color = vec3<f32>(1.0);
+    if mesh.color_offset != NO_INDEX {
+        let c0 = float3(mesh.color_offset + 3u * i0);
+        let c1 = float3(mesh.color_offset + 3u * i1);
+        let c2 = float3(mesh.color_offset + 3u * i2);
+        hit.color = bary.x * c0 + bary.y * c1 + bary.z * c2;
     }
     let n = normalize_or(normal_to_world(xform, normal), vec3<f32>(0.0, 1.0, 0.0));
     hit.point = (to_world * vec4<f32>(point, 1.0)).xyz;

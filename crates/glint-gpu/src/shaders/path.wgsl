@@ -141,7 +141,8 @@ fn path_radiance(camera_ray: Ray, sampler: ptr<function, PathSampler>) -> vec3<f
         }
         let hit = hit_from(r, found);
         let wo_world = -normalize(r.dir);
-        let bsdf = surface_bsdf(hit.material, hit.uv);
+        var bsdf = surface_bsdf(hit.material, hit.uv);
+        bsdf.color *= hit.color;
         radiance += throughput * emitted(hit, hit.material, wo_world, previous);
         if depth + 1u >= params.max_depth {
             break;

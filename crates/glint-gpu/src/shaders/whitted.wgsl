@@ -257,8 +257,9 @@ fn direct_lighting(hit: Hit, m: Material, n: vec3<f32>, v: vec3<f32>, time: f32,
         let texel = texture_sample(m.texture, hit.uv * v2(m.texture_repeat));
         diffuse = (1.0 - m.blend) * diffuse + m.blend * m.kd * texel;
     }
+    diffuse *= hit.color;
     let specular = v3(m.specular);
-    var color = params.ambient.xyz * v3(m.ambient);
+    var color = params.ambient.xyz * v3(m.ambient) * hit.color;
     // Seen from outside, a smooth mesh's shadow rays start on the surface its normals
     // describe (Hanika 2021).
     let outside = dot(hit.geometric_normal, n) >= 0.0;

@@ -38,6 +38,19 @@ pub fn scene_as_written(source: &str, width: u32, height: u32) -> RenderScene {
     compile(&desc).expect("scene compiles")
 }
 
+/// A native scene from source whose meshes get vertex colours from their positions
+/// (`|p|` clamped to 1, so each octant shows another tint).
+pub fn painted_scene(source: &str, width: u32, height: u32, spp: Option<u32>) -> RenderScene {
+    let mut desc = glint_scene::parse_scene(source, "test.glint", Path::new(".")).expect("scene parses");
+    desc.settings.width = width;
+    desc.settings.height = height;
+    desc.settings.spp = spp.or(desc.settings.spp);
+    for mesh in &mut desc.meshes {
+        mesh.colors = mesh.positions.iter().map(|p| p.abs().min(glam::Vec3::ONE)).collect();
+    }
+    compile(&desc).expect("scene compiles")
+}
+
 /// A scene file of the repository.
 pub fn scene_file(name: &str, width: u32, height: u32, spp: u32) -> RenderScene {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes").join(name);

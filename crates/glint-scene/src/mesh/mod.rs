@@ -15,7 +15,8 @@ use std::path::Path;
 
 use glam::{Mat4, Vec3};
 use glint_core::desc::{
-    CameraDesc, LightDesc, MaterialDesc, MeshDesc, NodeDesc, NodeKind, SceneDesc, ShapeDesc, TextureDesc, TransformOp,
+    CameraDesc, LightDesc, MaterialDesc, MeshDesc, NodeDesc, NodeKind, RenderSettings, SceneDesc, ShapeDesc,
+    TextureDesc, TransformOp,
 };
 
 use crate::error::{SceneError, SceneErrorKind};
@@ -57,6 +58,13 @@ pub struct MeshImport {
     pub materials: Vec<MaterialDesc>,
     pub textures: Vec<TextureDesc>,
     pub placements: Vec<Placement>,
+    /// Lights the file holds (glTF's punctual lights); without any, [`model_scene`]
+    /// adds its own.
+    pub lights: Vec<LightDesc>,
+    /// The file's camera, used instead of one fitted to the model.
+    pub camera: Option<CameraDesc>,
+    /// Width over height of the file's camera's image, if it says.
+    pub aspect_ratio: Option<f32>,
     pub warnings: Vec<String>,
 }
 
@@ -199,14 +207,23 @@ pub fn model_scene(import: MeshImport) -> SceneDesc {
     let distance = radius / (0.5 * fov_y_degrees.to_radians()).sin();
     let view = Vec3::new(0.45, 0.35, 1.0).normalize();
     let eye = center + distance * view;
-    let camera = CameraDesc { eye, look: center - eye, up: Vec3::Y, fov_y_degrees, ..Default::default() };
+    let fitted = CameraDesc { eye, look: center - eye, up: Vec3::Y, fov_y_degrees, ..Default::default() };
     let key = center + distance * Vec3::new(-0.6, 0.9, 0.8).normalize();
     let fill = center + distance * Vec3::new(1.0, 0.2, 0.3).normalize();
-    let lights = vec![
-        LightDesc::Point { position: key, color: Vec3::splat(0.8), attenuation: Vec3::X },
-        LightDesc::Point { position: fill, color: Vec3::splat(0.35), attenuation: Vec3::X },
-    ];
-    let MeshImport { meshes, mut materials, textures, placements, .. } = import;
+    let MeshImport { meshes, mut materials, textures, placements, lights, camera, aspect_ratio, .. } = import;
+    let lights = if lights.is_empty() {
+        vec![
+            LightDesc::Point { position: key, color: Vec3::splat(0.8), attenuation: Vec3::X },
+            LightDesc::Point { position: fill, color: Vec3::splat(0.35), attenuation: Vec3::X },
+        ]
+    } else {
+        lights
+    };
+    let mut settings = RenderSettings::default();
+    if let (Some(_), Some(aspect)) = (&camera, aspect_ratio) {
+        settings.height = ((settings.width as f32 / aspect).round() as u32).clamp(1, 16384);
+    }
+    let camera = camera.unwrap_or(fitted);
     let mut default_material = None;
     let objects = placements
         .into_iter()
@@ -227,7 +244,7 @@ pub fn model_scene(import: MeshImport) -> SceneDesc {
             }
         })
         .collect();
-    SceneDesc { camera, lights, materials, textures, objects, meshes, ..Default::default() }
+    SceneDesc { settings, camera, lights, materials, textures, objects, meshes }
 }
 
 #[cfg(test)]

@@ -1,20 +1,25 @@
 //! glTF 2.0 (`.gltf` with its buffers, or a binary `.glb`) through the `gltf` crate:
-//! the default scene's node tree with its transforms, triangle primitives, and each
-//! material's base-colour factor and texture. A mesh used by several nodes is stored once.
+//! the default scene's node tree with its transforms; triangle lists, strips and fans
+//! with normals, uvs and vertex colours; materials ([`material`]); the first camera and
+//! the punctual lights ([`punctual`]). A mesh used by several nodes is stored once.
 //!
 //! The crate's `import` would read the buffers and images a model names itself, with no
 //! bound on their size; so the JSON is parsed from bytes read within the limits of
 //! [`crate::input`], buffers are read here the same way, and only the images materials
 //! use are decoded, by [`crate::texture_io`] under its pixel limit.
 
-use std::borrow::Cow;
+mod material;
+mod punctual;
+
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec2, Vec3};
-use glint_core::desc::{MaterialDesc, MeshDesc, Transfer};
+use glint_core::desc::MeshDesc;
 use gltf::accessor::{DataType, Dimensions};
-use gltf::mesh::Semantic;
+use gltf::mesh::{Mode, Semantic};
+
+use self::material::Texels;
 
 use super::{MeshImport, Placement, degenerate_warning, mesh_error, read_limited};
 use crate::error::SceneError;
@@ -44,7 +49,10 @@ pub fn parse(path: &Path, bytes: Vec<u8>) -> Result<MeshImport, SceneError> {
     let gltf::Gltf { document, blob } = gltf::Gltf::from_slice_without_validation(&bytes).map_err(invalid)?;
     drop(bytes);
     check_position_accessors(path, document.as_json())?;
-    let doc = gltf::Document::from_json(document.into_json()).map_err(invalid)?;
+    check_required_extensions(path, document.as_json())?;
+    let mut json = document.into_json();
+    let unknown_attributes = drop_unknown_attributes(&mut json);
+    let doc = gltf::Document::from_json(json).map_err(|e| invalid_document(path, e))?;
     let buffers = buffers(path, &doc, blob)?;
     let mut state = State {
         path,
@@ -53,6 +61,9 @@ pub fn parse(path: &Path, bytes: Vec<u8>) -> Result<MeshImport, SceneError> {
         meshes: HashMap::new(),
         materials: HashMap::new(),
         textures: HashMap::new(),
+        blue_means: HashMap::new(),
+        cameras_skipped: 0,
+        skipped_modes: HashMap::new(),
     };
     let scene = doc.default_scene().or_else(|| doc.scenes().next());
     match scene {
@@ -63,7 +74,81 @@ pub fn parse(path: &Path, bytes: Vec<u8>) -> Result<MeshImport, SceneError> {
         }
         None => state.import.warnings.push(format!("{}: the file has no scene", path.display())),
     }
+    for (mesh, count) in unknown_attributes {
+        state.warn(format!("mesh {mesh}: ignored {count} vertex attributes with names glTF does not define"));
+    }
+    state.finish_warnings();
     Ok(state.import)
+}
+
+/// Removes the vertex attributes whose names glTF does not define (application
+/// attributes should start with `_`, which the `gltf` crate accepts; some exporters
+/// forget): they are not glint's to read, and would fail validation. Returns how many
+/// each mesh lost.
+fn drop_unknown_attributes(json: &mut gltf::json::Root) -> Vec<(usize, usize)> {
+    use gltf::json::validation::Checked;
+    let mut dropped = Vec::new();
+    for (m, mesh) in json.meshes.iter_mut().enumerate() {
+        let mut count = 0;
+        for primitive in &mut mesh.primitives {
+            let before = primitive.attributes.len();
+            primitive.attributes.retain(|semantic, _| matches!(semantic, Checked::Valid(_)));
+            count += before - primitive.attributes.len();
+        }
+        if count > 0 {
+            dropped.push((m, count));
+        }
+    }
+    dropped
+}
+
+/// The extensions whose meaning glint renders (or may leave out without changing the
+/// geometry: KTX2 and WebP images are warned about and left out).
+const IMPLEMENTED_EXTENSIONS: &[&str] = &[
+    "KHR_lights_punctual",
+    "KHR_materials_emissive_strength",
+    "KHR_materials_ior",
+    "KHR_materials_transmission",
+    "KHR_materials_unlit",
+    "KHR_texture_transform",
+    "KHR_texture_basisu",
+    "EXT_texture_webp",
+];
+
+/// Refuses, in one sentence, a model that requires an extension glint does not
+/// implement (Draco compression, mesh quantization, …): without it the data cannot be
+/// read as the model means it.
+fn check_required_extensions(path: &Path, json: &gltf::json::Root) -> Result<(), SceneError> {
+    let missing: Vec<&str> =
+        json.extensions_required.iter().map(String::as_str).filter(|e| !IMPLEMENTED_EXTENSIONS.contains(e)).collect();
+    match missing.as_slice() {
+        [] => Ok(()),
+        [one] => Err(mesh_error(
+            path,
+            0,
+            format!("the model requires the glTF extension {one}, which glint does not implement"),
+        )),
+        many => {
+            let list = many.join(", ");
+            Err(mesh_error(
+                path,
+                0,
+                format!("the model requires the glTF extensions {list}, which glint does not implement"),
+            ))
+        }
+    }
+}
+
+/// The first problems of a document that fails validation, counted beyond three, so
+/// that a broken model reads as a sentence, not a list of every accessor.
+fn invalid_document(path: &Path, error: gltf::Error) -> SceneError {
+    let gltf::Error::Validation(problems) = &error else {
+        return mesh_error(path, 0, format!("invalid glTF: {error}"));
+    };
+    let shown: Vec<String> = problems.iter().take(3).map(|(at, problem)| format!("{at}: {problem}")).collect();
+    let more = problems.len().saturating_sub(shown.len());
+    let tail = if more > 0 { format!(" (and {more} more problems)") } else { String::new() };
+    mesh_error(path, 0, format!("invalid glTF: {}{tail}", shown.join("; ")))
 }
 
 /// Refuses a GLB whose header declares a total length shorter than the 12-byte header
@@ -167,6 +252,9 @@ const POSITION: Expect = Expect { what: "POSITION", dimensions: Dimensions::Vec3
 const NORMAL: Expect = Expect { what: "NORMAL", dimensions: Dimensions::Vec3, types: &[DataType::F32] };
 const TEXCOORD_0: Expect =
     Expect { what: "TEXCOORD_0", dimensions: Dimensions::Vec2, types: &[DataType::F32, DataType::U8, DataType::U16] };
+const COLOR_0_RGB: Expect =
+    Expect { what: "COLOR_0", dimensions: Dimensions::Vec3, types: &[DataType::F32, DataType::U8, DataType::U16] };
+const COLOR_0_RGBA: Expect = Expect { dimensions: Dimensions::Vec4, ..COLOR_0_RGB };
 const INDICES: Expect =
     Expect { what: "indices", dimensions: Dimensions::Scalar, types: &[DataType::U8, DataType::U16, DataType::U32] };
 
@@ -185,7 +273,15 @@ struct State<'a> {
     /// (mesh, primitive) → index into `import.meshes`.
     meshes: HashMap<(usize, usize), usize>,
     materials: HashMap<usize, usize>,
-    textures: HashMap<usize, usize>,
+    /// (image, how its texels are meant) → index into `import.textures`; `None`: an
+    /// image glint cannot decode, already warned about.
+    textures: HashMap<(usize, Texels), Option<usize>>,
+    /// Mean metallic (blue channel) of each metallic-roughness texture, by its index
+    /// in `import.textures`.
+    blue_means: HashMap<usize, f32>,
+    cameras_skipped: usize,
+    /// Primitives of each mode glint does not draw (points, lines).
+    skipped_modes: HashMap<&'static str, usize>,
 }
 
 impl State<'_> {
@@ -201,12 +297,16 @@ impl State<'_> {
             self.import.warnings.push(message);
             return Ok(());
         }
+        if let Some(camera) = node.camera() {
+            self.camera(&camera, world);
+        }
+        if let Some(light) = node.light() {
+            self.light(&light, world);
+        }
         if let Some(mesh) = node.mesh() {
             for primitive in mesh.primitives() {
-                if primitive.mode() != gltf::mesh::Mode::Triangles {
-                    let message =
-                        format!("{}: skipped a {:?} primitive (only triangles)", self.path.display(), primitive.mode());
-                    self.import.warnings.push(message);
+                if let Some(mode) = undrawn_mode(primitive.mode()) {
+                    *self.skipped_modes.entry(mode).or_default() += 1;
                     continue;
                 }
                 let key = (mesh.index(), primitive.index());
@@ -266,10 +366,19 @@ impl State<'_> {
         } else {
             vec![]
         };
-        // glTF's v runs down the image; glint's runs up.
+        // The base colour's texture transform is baked into the uvs (a primitive has one
+        // material); glTF's v runs down the image, glint's up.
+        let transform = uv_transform(primitive);
         let uvs: Vec<Vec2> = if readable(&Semantic::TexCoords(0), &TEXCOORD_0)? {
             let uvs = reader.read_tex_coords(0).ok_or_else(|| unreadable(TEXCOORD_0.what))?;
-            uvs.into_f32().map(|[u, v]| Vec2::new(u, 1.0 - v)).collect()
+            uvs.into_f32().map(|uv| transform.apply(Vec2::from(uv))).map(|uv| Vec2::new(uv.x, 1.0 - uv.y)).collect()
+        } else {
+            vec![]
+        };
+        let rgba = primitive.get(&Semantic::Colors(0)).is_some_and(|a| a.dimensions() == Dimensions::Vec4);
+        let colors: Vec<Vec3> = if readable(&Semantic::Colors(0), if rgba { &COLOR_0_RGBA } else { &COLOR_0_RGB })? {
+            // glTF's vertex colours are linear already; alpha is not used.
+            reader.read_colors(0).ok_or_else(|| unreadable(COLOR_0_RGB.what))?.into_rgb_f32().map(Vec3::from).collect()
         } else {
             vec![]
         };
@@ -278,6 +387,7 @@ impl State<'_> {
             Some(_) => reader.read_indices().ok_or_else(|| unreadable(INDICES.what))?.into_u32().collect(),
             None => (0..positions.len() as u32).collect(),
         };
+        let indices = triangles_of(primitive.mode(), indices);
         if let Some(&i) = indices.iter().find(|&&i| i as usize >= positions.len()) {
             let message = format!("mesh {m}: index {i} is out of range ({} vertices)", positions.len());
             return Err(mesh_error(self.path, 0, message));
@@ -288,9 +398,9 @@ impl State<'_> {
             path: self.path.display().to_string(),
             normals: if normals.len() == count { normals } else { vec![] },
             uvs: if uvs.len() == count { uvs } else { vec![] },
-            colors: vec![],
+            colors: if colors.len() == count { colors } else { vec![] },
             positions,
-            indices: indices[..indices.len() / 3 * 3].to_vec(),
+            indices,
         }))
     }
 
@@ -340,53 +450,84 @@ impl State<'_> {
         }
         Ok(true)
     }
+}
 
-    fn material(&mut self, material: &gltf::Material, index: usize) -> Result<usize, SceneError> {
-        if let Some(&i) = self.materials.get(&index) {
-            return Ok(i);
+impl State<'_> {
+    /// Turns the counts gathered while reading into one warning each.
+    fn finish_warnings(&mut self) {
+        let mut modes: Vec<_> = self.skipped_modes.iter().map(|(m, n)| (*m, *n)).collect();
+        modes.sort_unstable();
+        for (mode, count) in modes {
+            self.warn(format!("skipped {count} primitives drawn as {mode} (glint draws triangles)"));
         }
-        let pbr = material.pbr_metallic_roughness();
-        let [r, g, b, _] = pbr.base_color_factor();
-        let name = material.name().map_or_else(|| format!("material{index}"), str::to_owned);
-        let mut desc = MaterialDesc { name, diffuse: Vec3::new(r, g, b), specular: Vec3::ZERO, ..Default::default() };
-        if let Some(info) = pbr.base_color_texture() {
-            desc.texture = Some(self.texture(&info.texture().source())?);
-            desc.blend = 1.0;
+        if self.cameras_skipped > 0 {
+            self.warn(format!("the first camera is used; {} more are left out", self.cameras_skipped));
         }
-        self.import.materials.push(desc);
-        self.materials.insert(index, self.import.materials.len() - 1);
-        Ok(self.import.materials.len() - 1)
-    }
-
-    /// The texture of `image`, decoded the first time a material uses it: PNG or JPEG
-    /// from a buffer view, a `data:` URI or a file (read within the image size limit).
-    fn texture(&mut self, image: &gltf::Image) -> Result<usize, SceneError> {
-        let index = image.index();
-        if let Some(&t) = self.textures.get(&index) {
-            return Ok(t);
-        }
-        let fail = |message: String| mesh_error(self.path, 0, format!("image {index}: {message}"));
-        let (bytes, file): (Cow<[u8]>, Cow<Path>) = match image.source() {
-            gltf::image::Source::View { view, .. } => {
-                let buffer = self.buffers.get(view.buffer().index()).map_or(&[][..], |b| &b.0[..]);
-                let range = view.offset()..view.offset().saturating_add(view.length());
-                let bytes = buffer.get(range).ok_or_else(|| fail("its buffer view lies outside its buffer".into()))?;
-                (Cow::Borrowed(bytes), Cow::Borrowed(self.path))
-            }
-            gltf::image::Source::Uri { uri, .. } => {
-                match resolve(self.path.parent().unwrap_or(Path::new("")), uri).map_err(fail)? {
-                    Resource::Bytes(bytes) => (Cow::Owned(bytes), Cow::Borrowed(self.path)),
-                    Resource::File(file) => {
-                        let bytes = input::read_bytes(&file, InputKind::Image).map_err(|e| fail(e.to_string()))?;
-                        (Cow::Owned(bytes), Cow::Owned(file))
-                    }
-                }
-            }
-        };
-        let texture = crate::texture_io::decode_image(&format!("image{index}"), &file, &bytes, Transfer::Srgb, false)
-            .map_err(|e| fail(e.to_string()))?;
-        self.import.textures.push(texture);
-        self.textures.insert(index, self.import.textures.len() - 1);
-        Ok(self.import.textures.len() - 1)
     }
 }
+
+/// The name of a primitive mode glint does not draw, or `None` for the triangle modes.
+fn undrawn_mode(mode: Mode) -> Option<&'static str> {
+    match mode {
+        Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan => None,
+        Mode::Points => Some("points"),
+        Mode::Lines | Mode::LineLoop | Mode::LineStrip => Some("lines"),
+    }
+}
+
+/// The triangle list of a primitive's vertex sequence: lists as they are (a partial
+/// last triangle dropped), strips with every other triangle turned so all keep the
+/// first one's winding, fans around their first vertex.
+fn triangles_of(mode: Mode, indices: Vec<u32>) -> Vec<u32> {
+    match mode {
+        Mode::TriangleStrip => (0..indices.len().saturating_sub(2))
+            .flat_map(|i| {
+                let [a, b, c] = [indices[i], indices[i + 1], indices[i + 2]];
+                if i % 2 == 0 { [a, b, c] } else { [b, a, c] }
+            })
+            .collect(),
+        Mode::TriangleFan => {
+            (1..indices.len().saturating_sub(1)).flat_map(|i| [indices[0], indices[i], indices[i + 1]]).collect()
+        }
+        _ => {
+            let mut indices = indices;
+            indices.truncate(indices.len() / 3 * 3);
+            indices
+        }
+    }
+}
+
+/// `KHR_texture_transform` of a texture reference: scale, then rotate, then offset.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct UvTransform {
+    offset: Vec2,
+    rotation: f32,
+    scale: Vec2,
+}
+
+impl UvTransform {
+    const IDENTITY: UvTransform = UvTransform { offset: Vec2::ZERO, rotation: 0.0, scale: Vec2::ONE };
+
+    /// The transformed uv, in glTF's convention (v down the image): the extension's
+    /// matrix `T·R·S`, its rotation `[cos −sin; sin cos]`.
+    fn apply(&self, uv: Vec2) -> Vec2 {
+        let s = uv * self.scale;
+        let (sin, cos) = self.rotation.sin_cos();
+        Vec2::new(cos * s.x - sin * s.y, sin * s.x + cos * s.y) + self.offset
+    }
+}
+
+/// The texture transform of the primitive's base-colour texture (the one texture whose
+/// placement glint keeps per mesh), or the identity.
+fn uv_transform(primitive: &gltf::Primitive) -> UvTransform {
+    let material = primitive.material();
+    let Some(info) = material.pbr_metallic_roughness().base_color_texture() else { return UvTransform::IDENTITY };
+    info.texture_transform().map_or(UvTransform::IDENTITY, |t| UvTransform {
+        offset: Vec2::from(t.offset()),
+        rotation: t.rotation(),
+        scale: Vec2::from(t.scale()),
+    })
+}
+
+#[cfg(test)]
+mod tests;
