@@ -398,9 +398,39 @@ impl Default for MaterialDesc {
 pub enum TextureDesc {
     /// Decoded pixels in linear RGB, row 0 at the top (v = 1); `path` is the file they
     /// came from, kept so a scene can be written back out.
-    Image { name: String, path: String, width: u32, height: u32, texels: Vec<Vec3> },
+    Image {
+        name: String,
+        path: String,
+        width: u32,
+        height: u32,
+        texels: Vec<Vec3>,
+        #[serde(default)]
+        sampling: ImageSampling,
+    },
     /// Alternating squares: `cells` squares along u and v of the unit uv square.
     Checker { name: String, even: Vec3, odd: Vec3, cells: Vec2 },
+}
+
+/// How an image texture is read between its texels and beyond its edges, as glTF's
+/// samplers (and OpenGL's) say it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct ImageSampling {
+    /// Beyond [0, 1] along u, then along v.
+    pub wrap: [TextureWrap; 2],
+    /// The nearest texel instead of bilinear filtering: for pixel art and lookup tables.
+    pub nearest: bool,
+}
+
+/// What an image shows outside the unit square of uv.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum TextureWrap {
+    /// The image tiles the plane.
+    #[default]
+    Repeat,
+    /// The edge texels stretch out forever (a decal, a label).
+    Clamp,
+    /// The image tiles the plane mirrored every other time, so no seam shows.
+    Mirror,
 }
 
 /// One elementary transform; a node applies its list in order (the first op acts on the

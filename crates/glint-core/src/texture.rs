@@ -1,9 +1,15 @@
-//! Colour patterns over uv: image textures (bilinear, repeating) and a procedural checker.
+//! Colour patterns over uv: image textures (bilinear or nearest; repeating, clamped or
+//! mirrored beyond the image) and a procedural checker.
 
 use bytemuck::NoUninit;
 use glam::{Vec2, Vec3};
 
-use crate::desc::TextureDesc;
+use crate::desc::{ImageSampling, TextureDesc, TextureWrap};
+
+/// [`Texture::flags`]: two bits of [`TextureWrap`] for u, two for v, then nearest.
+const WRAP_V_SHIFT: u32 = 2;
+const WRAP_MASK: u32 = 3;
+const NEAREST: u32 = 16;
 
 /// What a [`Texture`] record is.
 #[repr(u32)]
@@ -25,13 +31,35 @@ pub struct Texture {
     pub even: Vec3,
     pub odd: Vec3,
     pub cells: Vec2,
+    /// How images wrap and filter (see [`ImageSampling`]), packed in bits.
+    pub flags: u32,
+}
+
+fn flags_of(sampling: &ImageSampling) -> u32 {
+    let [u, v] = sampling.wrap.map(|w| w as u32);
+    u | v << WRAP_V_SHIFT | if sampling.nearest { NEAREST } else { 0 }
+}
+
+/// Texel index `i` of `n` along one axis, wrapped as `mode` (a [`TextureWrap`] as u32) says.
+#[inline]
+fn wrap_index(i: i64, n: i64, mode: u32) -> i64 {
+    const CLAMP: u32 = TextureWrap::Clamp as u32;
+    const MIRROR: u32 = TextureWrap::Mirror as u32;
+    match mode {
+        CLAMP => i.clamp(0, n - 1),
+        MIRROR => {
+            let m = i.rem_euclid(2 * n);
+            if m < n { m } else { 2 * n - 1 - m }
+        }
+        _ => i.rem_euclid(n),
+    }
 }
 
 impl Texture {
     /// Appends an image's texels to `texels` and returns its record.
     pub fn compile(desc: &TextureDesc, texels: &mut Vec<Vec3>) -> Self {
         match desc {
-            TextureDesc::Image { width, height, texels: pixels, .. } => {
+            TextureDesc::Image { width, height, texels: pixels, sampling, .. } => {
                 let offset = texels.len() as u32;
                 texels.extend_from_slice(pixels);
                 Self {
@@ -42,6 +70,7 @@ impl Texture {
                     even: Vec3::ZERO,
                     odd: Vec3::ZERO,
                     cells: Vec2::ZERO,
+                    flags: flags_of(sampling),
                 }
             }
             TextureDesc::Checker { even, odd, cells, .. } => Self {
@@ -52,6 +81,7 @@ impl Texture {
                 even: *even,
                 odd: *odd,
                 cells: *cells,
+                flags: 0,
             },
         }
     }
@@ -63,21 +93,28 @@ impl Texture {
                 let cell = (uv * self.cells).floor();
                 if (cell.x + cell.y).rem_euclid(2.0) == 0.0 { self.even } else { self.odd }
             }
-            TextureKind::Image => self.bilinear(uv, texels),
+            TextureKind::Image => self.image(uv, texels),
         }
     }
 
-    /// Bilinear filtering with wrap-around; v = 1 is the image's top row.
-    fn bilinear(&self, uv: Vec2, texels: &[Vec3]) -> Vec3 {
+    /// Bilinear (or nearest) filtering, wrapped as the flags say; v = 1 is the image's
+    /// top row. A repeating axis is reduced to [0, 1) first, so huge uvs keep precision.
+    fn image(&self, uv: Vec2, texels: &[Vec3]) -> Vec3 {
         let (w, h) = (self.width as i64, self.height as i64);
-        let x = uv.x.rem_euclid(1.0) * w as f32 - 0.5;
-        let y = (1.0 - uv.y.rem_euclid(1.0)) * h as f32 - 0.5;
-        let (x0, y0) = (x.floor(), y.floor());
-        let (fx, fy) = (x - x0, y - y0);
+        let (wrap_u, wrap_v) = (self.flags & WRAP_MASK, self.flags >> WRAP_V_SHIFT & WRAP_MASK);
+        let reduce = |t: f32, mode: u32| if mode == TextureWrap::Repeat as u32 { t.rem_euclid(1.0) } else { t };
+        let x = reduce(uv.x, wrap_u) * w as f32;
+        let y = (1.0 - reduce(uv.y, wrap_v)) * h as f32;
         let texel = |i: i64, j: i64| {
-            let (i, j) = (i.rem_euclid(w), j.rem_euclid(h));
+            let (i, j) = (wrap_index(i, w, wrap_u), wrap_index(j, h, wrap_v));
             texels[self.offset as usize + (j * w + i) as usize]
         };
+        if self.flags & NEAREST != 0 {
+            return texel(x.floor() as i64, y.floor() as i64);
+        }
+        let (x, y) = (x - 0.5, y - 0.5);
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
         let (i, j) = (x0 as i64, y0 as i64);
         let top = texel(i, j).lerp(texel(i + 1, j), fx);
         let bottom = texel(i, j + 1).lerp(texel(i + 1, j + 1), fx);
@@ -102,7 +139,14 @@ mod tests {
     #[test]
     fn image_texel_centres_are_exact_and_top_row_is_v1() {
         let texels = vec![Vec3::X, Vec3::Y, Vec3::Z, Vec3::ONE]; // 2×2: red green / blue white
-        let desc = TextureDesc::Image { name: "i".into(), path: String::new(), width: 2, height: 2, texels };
+        let desc = TextureDesc::Image {
+            name: "i".into(),
+            path: String::new(),
+            width: 2,
+            height: 2,
+            texels,
+            sampling: ImageSampling::default(),
+        };
         let mut all = vec![Vec3::splat(9.0)]; // an earlier texture's texels
         let t = Texture::compile(&desc, &mut all);
         assert!((t.sample(Vec2::new(0.25, 0.75), &all) - Vec3::X).length() < 1e-6);
@@ -110,5 +154,45 @@ mod tests {
         // Halfway between red and green.
         let mid = t.sample(Vec2::new(0.5, 0.75), &all);
         assert!((mid - Vec3::new(0.5, 0.5, 0.0)).length() < 1e-6);
+    }
+
+    /// A 2×1 image, red then blue, sampled with `sampling`.
+    fn red_blue(sampling: ImageSampling) -> (Texture, Vec<Vec3>) {
+        let texels = vec![Vec3::X, Vec3::Z];
+        let desc = TextureDesc::Image { name: "rb".into(), path: String::new(), width: 2, height: 1, texels, sampling };
+        let mut all = Vec::new();
+        (Texture::compile(&desc, &mut all), all)
+    }
+
+    #[test]
+    fn wrap_modes_repeat_clamp_and_mirror_beyond_the_image() {
+        let at = |wrap: TextureWrap, u: f32| {
+            let (t, texels) = red_blue(ImageSampling { wrap: [wrap, TextureWrap::Repeat], nearest: true });
+            t.sample(Vec2::new(u, 0.5), &texels)
+        };
+        // u in [1, 1.5) is the first texel again, clamped the last, mirrored the last.
+        assert_eq!(at(TextureWrap::Repeat, 1.25), Vec3::X);
+        assert_eq!(at(TextureWrap::Clamp, 1.25), Vec3::Z);
+        assert_eq!(at(TextureWrap::Clamp, -3.0), Vec3::X);
+        assert_eq!(at(TextureWrap::Mirror, 1.25), Vec3::Z);
+        assert_eq!(at(TextureWrap::Mirror, 1.75), Vec3::X);
+        assert_eq!(at(TextureWrap::Mirror, -0.25), Vec3::X);
+        // Bilinear at the right edge: repeating blends blue into red, clamping stays blue.
+        let edge = |wrap| {
+            let (t, texels) = red_blue(ImageSampling { wrap: [wrap, TextureWrap::Repeat], nearest: false });
+            t.sample(Vec2::new(0.999, 0.5), &texels)
+        };
+        assert!(edge(TextureWrap::Repeat).x > 0.4);
+        assert_eq!(edge(TextureWrap::Clamp), Vec3::Z);
+    }
+
+    #[test]
+    fn nearest_filtering_shows_whole_texels() {
+        let (t, texels) = red_blue(ImageSampling { nearest: true, ..Default::default() });
+        assert_eq!(t.sample(Vec2::new(0.49, 0.5), &texels), Vec3::X);
+        assert_eq!(t.sample(Vec2::new(0.51, 0.5), &texels), Vec3::Z);
+        let (t, texels) = red_blue(ImageSampling::default());
+        let mid = t.sample(Vec2::new(0.5, 0.5), &texels);
+        assert!((mid - Vec3::new(0.5, 0.0, 0.5)).length() < 1e-6, "{mid}");
     }
 }

@@ -37,6 +37,7 @@ fn scene(texel: Vec3, integrator: IntegratorDesc) -> RenderScene {
             width: 1,
             height: 1,
             texels: vec![texel],
+            sampling: Default::default(),
         }],
         objects: vec![
             node(

@@ -81,6 +81,7 @@ gpu_record!(pub TEXTURE = Texture as "Texture" {
     even: Vec3 => even,
     odd: Vec3 => odd,
     cells: Vec2 => cells,
+    flags: U32 => flags,
 });
 
 gpu_record!(pub MOTION = Motion as "Motion" {

@@ -159,7 +159,10 @@ fn textures_match_the_cpu() {
         "{ROOM}\nlight point {{ position [1 2.5 2] color 0.9 }}\n\
          texture \"board\" image {{ file \"{board}\" }}\n\
          material \"boarded\" {{ diffuse 1 texture \"board\" repeat [1 1] specular 0 reflective 0 }}\n\
+         texture \"edges\" image {{ file \"{board}\" wrap_u \"clamp\" wrap_v \"mirror\" filter \"nearest\" }}\n\
+         material \"edged\" {{ diffuse 1 texture \"edges\" repeat [2.5 3] specular 0 reflective 0 }}\n\
          sphere {{ material \"tiled\" scale 0.4 translate [-0.6 0.4 0] }}\n\
+         sphere {{ material \"edged\" scale 0.3 translate [0 0.3 0.6] }}\n\
          cube {{ material \"boarded\" scale 0.35 rotate [0 1 0] 25 translate [0.6 0.35 0] }}\n\
          rectangle {{ material \"tiled\" scale 0.5 rotate [1 0 0] 70 translate [0 1.4 -0.8] }}\n"
     );

@@ -176,6 +176,7 @@ pub fn decode_image(
         width: image.width(),
         height: image.height(),
         texels: if float_image { linear_texels(&image) } else { decoded_texels(&image, transfer) },
+        sampling: Default::default(),
     })
 }
 

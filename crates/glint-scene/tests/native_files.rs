@@ -163,6 +163,30 @@ fn image_textures_are_decoded_to_linear_rgb_top_row_first() {
 }
 
 #[test]
+fn image_textures_wrap_and_filter_as_written_and_are_written_back() {
+    use glint_core::desc::{ImageSampling, TextureWrap};
+    let dir = TempDir::new("wrap");
+    write_png(&dir, "tex.png");
+    let source = "texture \"a\" image { file \"tex.png\" wrap \"clamp\" filter \"nearest\" }\n\
+                  texture \"b\" image { file \"tex.png\" wrap_v \"mirror\" }\n\
+                  texture \"c\" image { file \"tex.png\" }";
+    let scene = parse_scene(source, "inline", &dir.0).expect("parses");
+    let sampling = |i: usize| match &scene.textures[i] {
+        TextureDesc::Image { sampling, .. } => *sampling,
+        other => panic!("{other:?}"),
+    };
+    assert_eq!(sampling(0), ImageSampling { wrap: [TextureWrap::Clamp; 2], nearest: true });
+    assert_eq!(sampling(1), ImageSampling { wrap: [TextureWrap::Repeat, TextureWrap::Mirror], nearest: false });
+    assert_eq!(sampling(2), ImageSampling::default());
+    let options = glint_scene::native::writer::WriteOptions { base_dir: Some(dir.0.clone()), comment: None };
+    let written = glint_scene::native::writer::write_scene(&scene, &options).expect("writes").text;
+    assert!(written.contains("wrap \"clamp\" filter \"nearest\""), "{written}");
+    assert!(written.contains("wrap_u \"repeat\" wrap_v \"mirror\""), "{written}");
+    let e = parse_scene("texture \"a\" image { file \"tex.png\" wrap \"tile\" }", "inline", &dir.0).unwrap_err();
+    assert!(e.message.contains("\"repeat\"") && e.message.contains("\"mirror\""), "{e}");
+}
+
+#[test]
 fn jpeg_textures_load_too() {
     let dir = TempDir::new("jpeg");
     let path = dir.0.join("flat.jpg");

@@ -17,16 +17,39 @@ const MIN_ALPHA: f32 = 1e-4;
 
 // ---- textures (glint_core::texture) ----
 
+// glint_core::texture's flags: the wrap mode of u and of v, then nearest filtering.
+const WRAP_REPEAT: u32 = 0u;
+const WRAP_CLAMP: u32 = 1u;
+const WRAP_MIRROR: u32 = 2u;
+const TEXTURE_NEAREST: u32 = 16u;
+
+// glint_core::texture::wrap_index: texel i of n along one axis, wrapped by `mode`.
+fn wrap_index(i: i32, n: i32, mode: u32) -> i32 {
+    if mode == WRAP_CLAMP {
+        return clamp(i, 0, n - 1);
+    }
+    if mode == WRAP_MIRROR {
+        let m = ((i % (2 * n)) + 2 * n) % (2 * n);
+        return select(2 * n - 1 - m, m, m < n);
+    }
+    return ((i % n) + n) % n;
+}
+
 fn texel(t: Texture, i: i32, j: i32) -> vec3<f32> {
     let w = i32(t.width);
     let h = i32(t.height);
-    let ii = ((i % w) + w) % w;
-    let jj = ((j % h) + h) % h;
+    let ii = wrap_index(i, w, t.flags & 3u);
+    let jj = wrap_index(j, h, (t.flags >> 2u) & 3u);
     return float3(params.texel_offset + 3u * (t.offset + u32(jj * w + ii)));
 }
 
 fn rem1(x: f32) -> f32 {
     return x - floor(x);
+}
+
+// A repeating axis is reduced to [0, 1) first, as on the CPU.
+fn reduce_uv(x: f32, mode: u32) -> f32 {
+    return select(x, rem1(x), mode == WRAP_REPEAT);
 }
 
 fn texture_sample(index: u32, uv: vec2<f32>) -> vec3<f32> {
@@ -39,8 +62,13 @@ fn texture_sample(index: u32, uv: vec2<f32>) -> vec3<f32> {
         }
         return v3(t.odd);
     }
-    let x = rem1(uv.x) * f32(t.width) - 0.5;
-    let y = (1.0 - rem1(uv.y)) * f32(t.height) - 0.5;
+    let xs = reduce_uv(uv.x, t.flags & 3u) * f32(t.width);
+    let ys = (1.0 - reduce_uv(uv.y, (t.flags >> 2u) & 3u)) * f32(t.height);
+    if (t.flags & TEXTURE_NEAREST) != 0u {
+        return texel(t, i32(floor(xs)), i32(floor(ys)));
+    }
+    let x = xs - 0.5;
+    let y = ys - 0.5;
     let x0 = floor(x);
     let y0 = floor(y);
     let fx = x - x0;

@@ -132,7 +132,8 @@ fn glb_meshes_are_stored_once_and_placed_by_nodes() {
     assert_eq!(import.meshes.len(), 1);
     assert_eq!(import.placements.len(), 2);
     assert_eq!(import.placements[1].world_from_object.transform_point3(Vec3::ZERO), Vec3::new(3.0, 0.0, 0.0));
-    assert_eq!(import.materials[0].diffuse, Vec3::X);
+    // glTF's metallic factor defaults to 1: a red metal, red in its highlights.
+    assert_eq!(import.materials[0].specular, Vec3::X);
     let flat = merged(&import, "tri", "tri.glb");
     assert_eq!((flat.positions.len(), flat.indices.len()), (6, 6));
     assert!(load_mesh(&write(&dir, "junk.glb", b"PK\x03\x04 not gltf")).unwrap_err().message.contains("not a glTF"));

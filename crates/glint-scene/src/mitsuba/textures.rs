@@ -8,7 +8,7 @@
 //! a whole number and the offset a whole number of texels; anything else is refused.
 
 use glam::{Mat4, Vec2, Vec3};
-use glint_core::desc::{ColorParam, ScalarParam, TextureDesc, Transfer};
+use glint_core::desc::{ColorParam, ImageSampling, ScalarParam, TextureDesc, TextureWrap, Transfer};
 
 use super::Reader;
 use super::tree::Elem;
@@ -97,12 +97,17 @@ fn to_uv(p: &Plugin) -> Result<(Vec2, Vec2), SceneError> {
 fn bitmap(p: &Plugin) -> Result<TextureDesc, SceneError> {
     let file = p.string("filename")?.ok_or_else(|| p.error("needs a 'filename'"))?;
     let raw = p.bool_or("raw", false)?;
-    if let Some(f) = p.string("filter_type")?.filter(|f| *f != "bilinear") {
-        return Err(p.param_error("filter_type", format!("'{f}' is not supported; glint filters bilinearly")));
-    }
-    if let Some(w) = p.string("wrap_mode")?.filter(|w| *w != "repeat") {
-        return Err(p.param_error("wrap_mode", format!("'{w}' is not supported; glint textures repeat")));
-    }
+    let nearest = match p.string("filter_type")? {
+        None | Some("bilinear") => false,
+        Some("nearest") => true,
+        Some(f) => return Err(p.param_error("filter_type", format!("'{f}' is not one of 'bilinear' or 'nearest'"))),
+    };
+    let wrap = match p.string("wrap_mode")? {
+        None | Some("repeat") => TextureWrap::Repeat,
+        Some("clamp") => TextureWrap::Clamp,
+        Some("mirror") => TextureWrap::Mirror,
+        Some(w) => return Err(p.param_error("wrap_mode", format!("'{w}' is not one of 'repeat', 'mirror' or 'clamp'"))),
+    };
     let (scale, offset) = to_uv(p)?;
     let path = p.elem.resolve(file);
     let transfer = if raw { Transfer::Identity } else { Transfer::Srgb };
@@ -113,7 +118,8 @@ fn bitmap(p: &Plugin) -> Result<TextureDesc, SceneError> {
     let (w, h, texels) = bake(width, height, &texels, scale, offset).map_err(|m| p.param_error("to_uv", m))?;
     // The texels are no longer the file's (flipped, maybe tiled): no source path, so a
     // writer cannot name the file in their place.
-    Ok(TextureDesc::Image { name, path: String::new(), width: w, height: h, texels })
+    let sampling = ImageSampling { wrap: [wrap; 2], nearest };
+    Ok(TextureDesc::Image { name, path: String::new(), width: w, height: h, texels, sampling })
 }
 
 /// A whole number close to `x`, if there is one.

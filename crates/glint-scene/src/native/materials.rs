@@ -1,7 +1,7 @@
 //! `material "name" { … }` and `texture "name" checker|image { … }`.
 
 use glam::{Vec2, Vec3};
-use glint_core::desc::{MaterialDesc, TextureDesc};
+use glint_core::desc::{ImageSampling, MaterialDesc, TextureDesc, TextureWrap};
 
 use super::args::{self, Result, Seen};
 use super::bsdf;
@@ -106,6 +106,7 @@ pub fn texture(src: &Source, name: &str, kind: &Node) -> Result<TextureDesc> {
         return Ok(TextureDesc::Checker { name: name.to_owned(), even, odd, cells });
     }
     let mut file = None;
+    let mut sampling = ImageSampling::default();
     for prop in kind.children() {
         seen.once(src, prop, "image")?;
         match prop.name.as_str() {
@@ -113,8 +114,13 @@ pub fn texture(src: &Source, name: &str, kind: &Node) -> Result<TextureDesc> {
                 args::no_block(src, prop)?;
                 file = Some((args::string(src, prop, "a file name")?.0, prop));
             }
+            "wrap" => sampling.wrap = [wrap(src, prop)?; 2],
+            "wrap_u" => sampling.wrap[0] = wrap(src, prop)?,
+            "wrap_v" => sampling.wrap[1] = wrap(src, prop)?,
+            "filter" => sampling.nearest = args::choice(src, prop, &[("bilinear", false), ("nearest", true)])?,
             _ => {
-                return Err(args::unknown(src, prop, "property", "in 'texture image'", &["file"]));
+                let allowed = ["file", "wrap", "wrap_u", "wrap_v", "filter"];
+                return Err(args::unknown(src, prop, "property", "in 'texture image'", &allowed));
             }
         }
     }
@@ -122,7 +128,21 @@ pub fn texture(src: &Source, name: &str, kind: &Node) -> Result<TextureDesc> {
         return Err(src.invalid(kind.pos(), "an image texture needs its file, as in `image { file \"wood.png\" }`"));
     };
     let path = src.dir.join(&file);
-    texture_io::load_texture(name, &path).map_err(|e| src.error(SceneErrorKind::Io, prop.pos(), e.to_string()))
+    let mut texture =
+        texture_io::load_texture(name, &path).map_err(|e| src.error(SceneErrorKind::Io, prop.pos(), e.to_string()))?;
+    if let TextureDesc::Image { sampling: s, .. } = &mut texture {
+        *s = sampling;
+    }
+    Ok(texture)
+}
+
+/// `wrap "repeat"|"clamp"|"mirror"`: what an image shows beyond its edges.
+fn wrap(src: &Source, prop: &Node) -> Result<TextureWrap> {
+    args::choice(
+        src,
+        prop,
+        &[("repeat", TextureWrap::Repeat), ("clamp", TextureWrap::Clamp), ("mirror", TextureWrap::Mirror)],
+    )
 }
 
 /// `microfacet "ggx"|"beckmann"`: the distribution of the BSDF's rough lobes.

@@ -292,7 +292,7 @@ impl Writer {
                 vec3(*odd, "checker odd")?,
                 vec2(*cells, "checker cells")?
             ),
-            TextureDesc::Image { path, .. } => {
+            TextureDesc::Image { path, sampling, .. } => {
                 if path.is_empty() {
                     return fail(format!(
                         "image texture '{name}' has no source file, so a .glint file cannot refer to it; \
@@ -300,7 +300,7 @@ impl Writer {
                     ));
                 }
                 let file = texture_file(Path::new(path), base_dir);
-                format!("texture {} image {{ file {} }}", quote(name), quote(&file))
+                format!("texture {} image {{ file {}{} }}", quote(name), quote(&file), sampling_properties(sampling))
             }
         };
         self.line(0, &line);
@@ -963,4 +963,26 @@ mod tests {
         assert_eq!(rel, Path::new("../scenes/tex/a.png"));
         assert_eq!(relative_path(Path::new("/a/b.png"), Path::new("/c")), None);
     }
+}
+
+/// The `wrap`/`filter` properties of an image texture that differ from the defaults,
+/// each with a leading space.
+fn sampling_properties(sampling: &glint_core::desc::ImageSampling) -> String {
+    use glint_core::desc::TextureWrap;
+    let word = |w: TextureWrap| match w {
+        TextureWrap::Repeat => "\"repeat\"",
+        TextureWrap::Clamp => "\"clamp\"",
+        TextureWrap::Mirror => "\"mirror\"",
+    };
+    let mut out = String::new();
+    let [u, v] = sampling.wrap;
+    if u == v && u != TextureWrap::Repeat {
+        out += &format!(" wrap {}", word(u));
+    } else if u != v {
+        out += &format!(" wrap_u {} wrap_v {}", word(u), word(v));
+    }
+    if sampling.nearest {
+        out += " filter \"nearest\"";
+    }
+    out
 }

@@ -14,7 +14,9 @@ use std::borrow::Cow;
 use std::path::Path;
 
 use glam::{Vec2, Vec3};
-use glint_core::desc::{BsdfDesc, ColorParam, MaterialDesc, ScalarParam, TextureDesc, Transfer};
+use glint_core::desc::{
+    BsdfDesc, ColorParam, ImageSampling, MaterialDesc, ScalarParam, TextureDesc, TextureWrap, Transfer,
+};
 
 use super::{Resource, State, resolve};
 use crate::error::SceneError;
@@ -119,12 +121,16 @@ impl State<'_> {
             self.warn(format!("texture {} has no image glint can read (KTX2?); it is left out", texture.index()));
             return Ok(None);
         };
-        let key = (image.index(), texels);
+        let sampling = sampling_of(&texture.sampler());
+        let key = (image.index(), texels, sampling);
         if let Some(&t) = self.textures.get(&key) {
             return Ok(t);
         }
         let decoded = self.decode(&image, texels)?;
         let index = decoded.map(|mut desc| {
+            if let TextureDesc::Image { sampling: s, .. } = &mut desc {
+                *s = sampling;
+            }
             if texels == Texels::AlphaFromGreen {
                 let blue_mean = alpha_from_green(&mut desc);
                 self.blue_means.insert(self.import.textures.len(), blue_mean);
@@ -175,6 +181,21 @@ impl State<'_> {
 
     pub(super) fn warn(&mut self, message: String) {
         self.import.warnings.push(format!("{}: {message}", self.path.display()));
+    }
+}
+
+/// A glTF sampler's wrap modes and magnification filter (glint does not mip-map, so
+/// the minification filter has nothing to choose).
+fn sampling_of(sampler: &gltf::texture::Sampler) -> ImageSampling {
+    use gltf::texture::{MagFilter, WrappingMode};
+    let wrap = |mode: WrappingMode| match mode {
+        WrappingMode::ClampToEdge => TextureWrap::Clamp,
+        WrappingMode::MirroredRepeat => TextureWrap::Mirror,
+        WrappingMode::Repeat => TextureWrap::Repeat,
+    };
+    ImageSampling {
+        wrap: [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())],
+        nearest: sampler.mag_filter() == Some(MagFilter::Nearest),
     }
 }
 

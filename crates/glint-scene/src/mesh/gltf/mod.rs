@@ -15,7 +15,7 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec2, Vec3};
-use glint_core::desc::MeshDesc;
+use glint_core::desc::{ImageSampling, MeshDesc};
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::{Mode, Semantic};
 
@@ -273,9 +273,9 @@ struct State<'a> {
     /// (mesh, primitive) → index into `import.meshes`.
     meshes: HashMap<(usize, usize), usize>,
     materials: HashMap<usize, usize>,
-    /// (image, how its texels are meant) → index into `import.textures`; `None`: an
-    /// image glint cannot decode, already warned about.
-    textures: HashMap<(usize, Texels), Option<usize>>,
+    /// (image, how its texels are meant, its sampler) → index into `import.textures`;
+    /// `None`: an image glint cannot decode, already warned about.
+    textures: HashMap<(usize, Texels, ImageSampling), Option<usize>>,
     /// Mean metallic (blue channel) of each metallic-roughness texture, by its index
     /// in `import.textures`.
     blue_means: HashMap<usize, f32>,

@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use glam::{Vec2, Vec3};
-use glint_core::desc::{BsdfDesc, LightDesc};
+use glint_core::desc::{BsdfDesc, ImageSampling, LightDesc, TextureDesc, TextureWrap};
 
 use crate::mesh::{MeshImport, model_scene, parse_mesh};
 
@@ -164,7 +164,8 @@ fn textured_square(transform: &str) -> MeshImport {
     image.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png).unwrap();
     let more = format!(
         r#","materials":[{{"pbrMetallicRoughness":{{"baseColorTexture":{{"index":0{transform}}}}}}}],
-"textures":[{{"source":0}}],"images":[{{"uri":"data:image/png;base64,{}"}}]"#,
+"textures":[{{"source":0,"sampler":0}}],"images":[{{"uri":"data:image/png;base64,{}"}}],
+"samplers":[{{"wrapS":33071,"wrapT":33648,"magFilter":9728}}]"#,
         base64(&png)
     );
     let primitive = r#"{"attributes":{"POSITION":0,"TEXCOORD_0":1},"material":0}"#;
@@ -176,6 +177,10 @@ fn a_texture_transform_is_baked_into_the_uvs() {
     let plain = textured_square("");
     // glTF (0, 0) is the image's top left, glint's v runs up: uv (0, 0) → (0, 1).
     assert_eq!(plain.meshes[0].uvs[0], Vec2::new(0.0, 1.0));
+    // The sampler: u clamps to the edge, v mirrors, magnified texels stay square.
+    let TextureDesc::Image { sampling, .. } = &plain.textures[0] else { panic!() };
+    let expected = ImageSampling { wrap: [TextureWrap::Clamp, TextureWrap::Mirror], nearest: true };
+    assert_eq!(*sampling, expected);
     let moved = textured_square(r#","extensions":{"KHR_texture_transform":{"offset":[0.5,0.25],"scale":[2,3]}}"#);
     // Corner (1, 1): scaled to (2, 3), offset to (2.5, 3.25), v flipped to −2.25.
     let corner = moved.meshes[0].uvs[2];
