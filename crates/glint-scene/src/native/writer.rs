@@ -935,6 +935,28 @@ fn defaults_fps() -> f32 {
     RenderSettings::default().fps
 }
 
+/// The `wrap`/`filter` properties of an image texture that differ from the defaults,
+/// each with a leading space.
+fn sampling_properties(sampling: &glint_core::desc::ImageSampling) -> String {
+    use glint_core::desc::TextureWrap;
+    let word = |w: TextureWrap| match w {
+        TextureWrap::Repeat => "\"repeat\"",
+        TextureWrap::Clamp => "\"clamp\"",
+        TextureWrap::Mirror => "\"mirror\"",
+    };
+    let mut out = String::new();
+    let [u, v] = sampling.wrap;
+    if u == v && u != TextureWrap::Repeat {
+        out += &format!(" wrap {}", word(u));
+    } else if u != v {
+        out += &format!(" wrap_u {} wrap_v {}", word(u), word(v));
+    }
+    if sampling.nearest {
+        out += " filter \"nearest\"";
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -963,26 +985,4 @@ mod tests {
         assert_eq!(rel, Path::new("../scenes/tex/a.png"));
         assert_eq!(relative_path(Path::new("/a/b.png"), Path::new("/c")), None);
     }
-}
-
-/// The `wrap`/`filter` properties of an image texture that differ from the defaults,
-/// each with a leading space.
-fn sampling_properties(sampling: &glint_core::desc::ImageSampling) -> String {
-    use glint_core::desc::TextureWrap;
-    let word = |w: TextureWrap| match w {
-        TextureWrap::Repeat => "\"repeat\"",
-        TextureWrap::Clamp => "\"clamp\"",
-        TextureWrap::Mirror => "\"mirror\"",
-    };
-    let mut out = String::new();
-    let [u, v] = sampling.wrap;
-    if u == v && u != TextureWrap::Repeat {
-        out += &format!(" wrap {}", word(u));
-    } else if u != v {
-        out += &format!(" wrap_u {} wrap_v {}", word(u), word(v));
-    }
-    if sampling.nearest {
-        out += " filter \"nearest\"";
-    }
-    out
 }
