@@ -361,6 +361,11 @@ pub struct MaterialDesc {
     /// The microfacet distribution of the BSDF's rough lobes.
     #[serde(default)]
     pub microfacet: MicrofacetKind,
+    /// Whether objects of this material block shadow rays. `false` is POV-Ray's
+    /// `no_shadow` and the Ray Tracer Challenge's `shadow: false`: the object is seen,
+    /// reflected and refracted, but lights shine through it.
+    #[serde(default = "yes")]
+    pub casts_shadows: bool,
 }
 
 fn yes() -> bool {
@@ -389,6 +394,7 @@ impl Default for MaterialDesc {
             emission: Vec3::ZERO,
             two_sided: true,
             microfacet: MicrofacetKind::Ggx,
+            casts_shadows: true,
         }
     }
 }

@@ -617,7 +617,15 @@ impl RenderScene {
         }
     }
 
-    /// Whether anything blocks the segment `0 < t < t_max`; stops at the first hit.
+    /// Whether instance `index` lets shadow rays through (its material casts no shadow).
+    #[inline]
+    fn casts_no_shadow(&self, index: u32) -> bool {
+        let material = self.instances[index as usize].material as usize;
+        self.bsdfs.get(material).is_some_and(|b| b.flags & crate::bsdf::CASTS_NO_SHADOW != 0)
+    }
+
+    /// Whether anything that casts shadows blocks the segment `0 < t < t_max`; stops at
+    /// the first hit.
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         crate::accel::lanes::on_avx2_or!(
             |avx| self.occluded_avx2(avx, ray, t_max),
@@ -635,6 +643,9 @@ impl RenderScene {
     #[inline(always)]
     fn occluded_on<L: Lanes>(&self, lanes: L, ray: &Ray, t_max: f32) -> bool {
         let hits = |index: u32, t_max: &mut f32| {
+            if self.casts_no_shadow(index) {
+                return false;
+            }
             let inst = &self.instances[index as usize];
             let local = self.transform_at(inst, ray.time).ray_to_object(ray);
             match inst.shape.kind {
@@ -663,7 +674,9 @@ impl RenderScene {
         // against pathological scenes.
         for _ in 0..64 {
             let Some(hit) = self.intersect(&ray, t_left) else { return filter };
-            filter *= self.materials[hit.material as usize].transmissive;
+            if !self.casts_no_shadow(hit.instance) {
+                filter *= self.materials[hit.material as usize].transmissive;
+            }
             if filter.max_element() <= 0.0 {
                 return Vec3::ZERO;
             }

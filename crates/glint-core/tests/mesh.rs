@@ -212,3 +212,44 @@ fn vertex_colours_are_interpolated_across_the_triangle() {
     let hit = scene.intersect(&glint_core::math::Ray::new(corner, Vec3::NEG_Z), f32::INFINITY).unwrap();
     assert!(hit.color.x > 0.9 && hit.color.y < 0.1, "{}", hit.color);
 }
+
+/// A floor lit straight from above through a sphere; `casts_shadows` says whether the
+/// sphere may shadow it.
+fn shadowed_floor(casts_shadows: bool, integrator: IntegratorDesc) -> Image {
+    let ball = MaterialDesc { casts_shadows, specular: Vec3::ZERO, ..Default::default() };
+    let floor = MaterialDesc { specular: Vec3::ZERO, ..Default::default() };
+    let desc = SceneDesc {
+        settings: RenderSettings { width: 32, height: 32, integrator, spp: Some(4), ..Default::default() },
+        camera: CameraDesc { eye: Vec3::new(0.0, 6.0, 0.01), look: Vec3::NEG_Y, up: Vec3::Z, ..Default::default() },
+        lights: vec![LightDesc::Directional { direction: Vec3::NEG_Y, color: Vec3::ONE }],
+        materials: vec![floor, ball],
+        objects: vec![
+            NodeDesc {
+                transform: vec![TransformOp::Scale(Vec3::splat(5.0))],
+                kind: NodeKind::Shape { shape: ShapeDesc::Rectangle, material: 0 },
+                origin: String::new(),
+            },
+            NodeDesc {
+                transform: vec![TransformOp::Scale(Vec3::splat(0.5)), TransformOp::Translate(Vec3::new(1.5, 8.0, 0.0))],
+                kind: NodeKind::Shape { shape: ShapeDesc::Sphere, material: 1 },
+                origin: String::new(),
+            },
+        ],
+        ..Default::default()
+    };
+    render_desc(&desc)
+}
+
+#[test]
+fn an_object_that_casts_no_shadow_lets_light_through_under_both_integrators() {
+    for integrator in [IntegratorDesc::Whitted, IntegratorDesc::Path(PathDesc { max_depth: 2, ..Default::default() })] {
+        let (shadowing, passing) = (shadowed_floor(true, integrator), shadowed_floor(false, integrator));
+        // The sphere hangs above the camera, out of its view; its shadow falls on the
+        // floor in view. The pixel at the image's centre is floor in the open.
+        let open = shadowing.pixels[(16 * 32 + 16) as usize];
+        let dark = shadowing.pixels.iter().filter(|p| p.max_element() < 0.1 * open.max_element()).count();
+        let dark_passing = passing.pixels.iter().filter(|p| p.max_element() < 0.1 * open.max_element()).count();
+        assert!(dark > 4, "{integrator:?}: the sphere shadows the floor in {dark} pixels");
+        assert_eq!(dark_passing, 0, "{integrator:?}: a sphere that casts no shadow darkens {dark_passing} pixels");
+    }
+}

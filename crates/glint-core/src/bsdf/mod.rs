@@ -48,6 +48,9 @@ pub const BECKMANN: u32 = 4;
 /// only from the side its normal points to. Kept apart from [`TWO_SIDED`], which
 /// dielectrics and the Phong reading force on for scattering.
 pub const EMITS_BOTH_SIDES: u32 = 8;
+/// Record flag: objects of this material let shadow rays through
+/// ([`crate::desc::MaterialDesc::casts_shadows`] is false).
+pub const CASTS_NO_SHADOW: u32 = 16;
 
 /// A compiled BSDF with the emission of its material, as flat data.
 ///
@@ -93,7 +96,8 @@ impl Bsdf {
         let base = Self {
             kind: BsdfKind::Diffuse,
             flags: if desc.two_sided { TWO_SIDED | EMITS_BOTH_SIDES } else { 0 }
-                | if desc.microfacet == crate::desc::MicrofacetKind::Beckmann { BECKMANN } else { 0 },
+                | if desc.microfacet == crate::desc::MicrofacetKind::Beckmann { BECKMANN } else { 0 }
+                | if desc.casts_shadows { 0 } else { CASTS_NO_SHADOW },
             color: Vec3::ZERO,
             color_texture: NO_TEXTURE,
             texture_scale: Vec3::ONE,

@@ -13,6 +13,7 @@ const TWO_SIDED: u32 = 1u;
 const NONLINEAR: u32 = 2u;
 const BECKMANN: u32 = 4u;
 const EMITS_BOTH_SIDES: u32 = 8u;
+const CASTS_NO_SHADOW: u32 = 16u;
 const MIN_ALPHA: f32 = 1e-4;
 
 // ---- textures (glint_core::texture) ----

@@ -642,7 +642,13 @@ fn intersect_instance(index: u32, r: Ray, t_max: f32, any_hit: bool) -> ShapeHit
     return intersect_analytic(inst.kind, local, t_max);
 }
 
-// The closest hit in (0, t_max) over every instance, or any hit when `any_hit`.
+// glint_core::scene::RenderScene::casts_no_shadow: shadow rays pass instance i.
+fn casts_no_shadow(i: u32) -> bool {
+    return (bsdfs[instances[i].material].flags & CASTS_NO_SHADOW) != 0u;
+}
+
+// The closest hit in (0, t_max) over every instance, or any hit (for shadow rays, past
+// instances that cast no shadow) when `any_hit`.
 fn trace_scene(r: Ray, t_max_in: f32, any_hit: bool) -> SceneHit {
     var result = SceneHit(false, 0u, no_hit());
     var t_max = t_max_in;
@@ -664,6 +670,9 @@ fn trace_scene(r: Ray, t_max_in: f32, any_hit: bool) -> SceneHit {
             let count = stack_count[top];
             if count > 0u {
                 for (var i = index; i < index + count; i += 1u) {
+                    if any_hit && casts_no_shadow(i) {
+                        continue;
+                    }
                     let h = intersect_instance(i, r, t_max, any_hit);
                     if h.found {
                         result = SceneHit(true, i, h);
@@ -687,6 +696,9 @@ fn trace_scene(r: Ray, t_max_in: f32, any_hit: bool) -> SceneHit {
         }
     }
     for (var i = params.bounded_count; i < params.instance_count; i += 1u) {
+        if any_hit && casts_no_shadow(i) {
+            continue;
+        }
         let h = intersect_instance(i, r, t_max, any_hit);
         if h.found {
             result = SceneHit(true, i, h);

@@ -197,7 +197,9 @@ fn transmittance(shadow_ray: Ray, t_max: f32) -> vec3<f32> {
             return shadow_filter;
         }
         let hit = hit_from(r, found);
-        shadow_filter *= v3(materials[hit.material].transmissive);
+        if !casts_no_shadow(found.instance) {
+            shadow_filter *= v3(materials[hit.material].transmissive);
+        }
         if max3(shadow_filter) <= 0.0 {
             return vec3<f32>(0.0);
         }

@@ -13,7 +13,7 @@ use crate::texture_io;
 /// The texture types, in the order the documentation lists them.
 pub const TEXTURE_KINDS: [&str; 2] = ["checker", "image"];
 
-const MATERIAL_PROPERTIES: [&str; 18] = [
+const MATERIAL_PROPERTIES: [&str; 19] = [
     "diffuse",
     "specular",
     "shininess",
@@ -32,6 +32,7 @@ const MATERIAL_PROPERTIES: [&str; 18] = [
     "emission",
     "two_sided",
     "microfacet",
+    "casts_shadows",
 ];
 
 /// Builds a material; unset properties keep [`MaterialDesc::default`].
@@ -65,6 +66,7 @@ pub fn material(src: &Source, node: &Node, name: &str, textures: &Registry) -> R
             }
             "emission" => m.emission = args::color(src, prop)?,
             "two_sided" => m.two_sided = args::boolean(src, prop)?,
+            "casts_shadows" => m.casts_shadows = args::boolean(src, prop)?,
             "microfacet" => m.microfacet = microfacet(src, prop)?,
             "texture" => {
                 args::no_block(src, prop)?;

@@ -352,6 +352,9 @@ impl Writer {
         if m.microfacet == glint_core::desc::MicrofacetKind::Beckmann {
             lines.push("microfacet \"beckmann\"".to_owned());
         }
+        if !m.casts_shadows {
+            lines.push("casts_shadows false".to_owned());
+        }
         self.line(0, &format!("material {} {{", quote(name)));
         for l in &lines {
             self.line(1, l);
@@ -379,6 +382,7 @@ impl Writer {
             emission: defaults.emission,
             two_sided: defaults.two_sided,
             microfacet: defaults.microfacet,
+            casts_shadows: defaults.casts_shadows,
             ..m.clone()
         };
         if rest != defaults {
