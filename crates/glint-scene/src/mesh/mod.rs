@@ -268,3 +268,5 @@ pub fn model_scene(import: MeshImport) -> SceneDesc {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod wild_tests;

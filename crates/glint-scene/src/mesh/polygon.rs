@@ -61,15 +61,19 @@ fn is_convex(flat: &[Vec2]) -> bool {
 fn ear_clip(flat: &[Vec2]) -> Vec<[usize; 3]> {
     let mut ring: Vec<usize> = (0..flat.len()).collect();
     let mut triangles = Vec::with_capacity(flat.len() - 2);
+    // Corners in a straight line (to rounding) are not ears: they would give slivers
+    // without area, perhaps wound backwards.
+    let (min, max) = flat.iter().fold((flat[0], flat[0]), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+    let tiny = 1e-6 * (max - min).length_squared();
     while ring.len() > 3 {
         let m = ring.len();
         let corner = |k: usize| [ring[(k + m - 1) % m], ring[k], ring[(k + 1) % m]];
         let convex = |k: usize| {
             let [a, b, c] = corner(k);
-            cross(flat[a], flat[b], flat[c]) > 0.0
+            cross(flat[a], flat[b], flat[c]) > tiny
         };
         let ear = (0..m)
-            .find(|&k| convex(k) && is_ear(flat, &ring, corner(k)))
+            .find(|&k| convex(k) && is_ear(flat, &ring, corner(k), tiny))
             .or_else(|| (0..m).find(|&k| convex(k)))
             .unwrap_or(0);
         triangles.push(corner(ear));
@@ -79,8 +83,9 @@ fn ear_clip(flat: &[Vec2]) -> Vec<[usize; 3]> {
     triangles
 }
 
-/// Whether no other corner of `ring` lies in (or on) triangle `abc`.
-fn is_ear(flat: &[Vec2], ring: &[usize], [a, b, c]: [usize; 3]) -> bool {
+/// Whether no other corner of `ring` lies in triangle `abc`, or on it to within `tiny`
+/// (rounding must not let an ear cut through a corner on its long side).
+fn is_ear(flat: &[Vec2], ring: &[usize], [a, b, c]: [usize; 3], tiny: f32) -> bool {
     let [pa, pb, pc] = [flat[a], flat[b], flat[c]];
     ring.iter().filter(|&&i| i != a && i != b && i != c).all(|&i| {
         let p = flat[i];
@@ -88,6 +93,6 @@ fn is_ear(flat: &[Vec2], ring: &[usize], [a, b, c]: [usize; 3]) -> bool {
         if p == pa || p == pb || p == pc {
             return true;
         }
-        !(cross(pa, pb, p) >= 0.0 && cross(pb, pc, p) >= 0.0 && cross(pc, pa, p) >= 0.0)
+        !(cross(pa, pb, p) >= -tiny && cross(pb, pc, p) >= -tiny && cross(pc, pa, p) >= -tiny)
     })
 }
