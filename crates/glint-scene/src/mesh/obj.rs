@@ -175,7 +175,9 @@ impl Pool {
             let mut parts = word.split('/');
             let v = resolve(parts.next(), self.positions.len(), word, &err)?
                 .ok_or_else(|| err(format!("face corner '{word}' has no vertex index")))?
-                .map_err(|i| err(format!("vertex index {i} is out of range: {} are defined so far", self.positions.len())))?;
+                .map_err(|i| {
+                    err(format!("vertex index {i} is out of range: {} are defined so far", self.positions.len()))
+                })?;
             // A missing texture coordinate or normal drops just that attribute.
             let t = resolve(parts.next(), self.uvs.len(), word, &err)?.map_or(NONE, |r| {
                 missing_uv |= r.is_err();
@@ -197,8 +199,7 @@ impl Pool {
         }
         self.missing_uv_faces += usize::from(missing_uv);
         self.missing_normal_faces += usize::from(missing_normal);
-        let points: Vec<Vec3> =
-            face.iter().map(|&c| self.positions[group.corners[c as usize].0 as usize]).collect();
+        let points: Vec<Vec3> = face.iter().map(|&c| self.positions[group.corners[c as usize].0 as usize]).collect();
         for [a, b, c] in polygon::triangulate(&points) {
             group.indices.extend([face[a], face[b], face[c]]);
         }
@@ -207,10 +208,9 @@ impl Pool {
 
     /// One warning per attribute that faces referred to but the file lacks.
     fn missing_warnings(&self, path: &Path, warnings: &mut Vec<String>) {
-        for (count, what) in [
-            (self.missing_uv_faces, "texture coordinates ('vt')"),
-            (self.missing_normal_faces, "normals ('vn')"),
-        ] {
+        for (count, what) in
+            [(self.missing_uv_faces, "texture coordinates ('vt')"), (self.missing_normal_faces, "normals ('vn')")]
+        {
             if count > 0 {
                 warnings.push(format!(
                     "{}: {count} faces referenced missing {what}; they keep their positions without them",

@@ -43,7 +43,20 @@ fn concave_outlines() -> Vec<Vec<Vec2>> {
     let v = |pts: &[(f32, f32)]| pts.iter().map(|&(x, y)| Vec2::new(x, y)).collect::<Vec<_>>();
     vec![
         v(&[(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.0, 1.0), (1.0, 2.0), (0.0, 2.0)]),
-        v(&[(0.0, 0.0), (5.0, 0.0), (5.0, 3.0), (4.0, 3.0), (4.0, 1.0), (3.0, 1.0), (3.0, 3.0), (2.0, 3.0), (2.0, 1.0), (1.0, 1.0), (1.0, 3.0), (0.0, 3.0)]),
+        v(&[
+            (0.0, 0.0),
+            (5.0, 0.0),
+            (5.0, 3.0),
+            (4.0, 3.0),
+            (4.0, 1.0),
+            (3.0, 1.0),
+            (3.0, 3.0),
+            (2.0, 3.0),
+            (2.0, 1.0),
+            (1.0, 1.0),
+            (1.0, 3.0),
+            (0.0, 3.0),
+        ]),
         v(&[(0.0, 0.0), (2.0, 1.0), (4.0, 0.0), (2.0, 3.0)]),
     ]
 }
@@ -84,8 +97,13 @@ fn degenerate_and_non_planar_polygons_triangulate_without_panicking() {
     assert_eq!(triangulate(&same).len(), 3);
     let bowtie = [Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0), Vec3::X, Vec3::Y];
     assert_eq!(triangulate(&bowtie).len(), 2);
-    let saddle =
-        [Vec3::ZERO, Vec3::new(1.0, 0.0, 1.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.5, 0.4, 0.2), Vec3::new(0.0, 1.0, 1.0)];
+    let saddle = [
+        Vec3::ZERO,
+        Vec3::new(1.0, 0.0, 1.0),
+        Vec3::new(1.0, 1.0, 0.0),
+        Vec3::new(0.5, 0.4, 0.2),
+        Vec3::new(0.0, 1.0, 1.0),
+    ];
     assert_eq!(triangulate(&saddle).len(), 3);
     assert!(triangulate(&[Vec3::ZERO, Vec3::X]).is_empty());
 }
@@ -123,11 +141,8 @@ const XYZ: &str = "property float x\nproperty float y\nproperty float z\n";
 #[test]
 fn ply_strips_and_fans_give_the_right_triangles() {
     let dir = folder("strips");
-    let strips = header(
-        "ascii",
-        XYZ,
-        "element tristrips 1\nproperty list int int vertex_indices\n",
-    ) + "0 0 0\n1 0 0\n0 1 0\n1 1 0\n8 0 1 2 3 -1 3 2 1\n";
+    let strips = header("ascii", XYZ, "element tristrips 1\nproperty list int int vertex_indices\n")
+        + "0 0 0\n1 0 0\n0 1 0\n1 1 0\n8 0 1 2 3 -1 3 2 1\n";
     let mesh = &load_mesh(&write(&dir, "s.ply", strips.as_bytes())).unwrap().meshes[0];
     // 0 1 2 3: (0 1 2), (2 1 3) flipped back; the restart begins 3 2 1 afresh.
     assert_eq!(mesh.indices, vec![0, 1, 2, 2, 1, 3, 3, 2, 1]);
@@ -140,8 +155,7 @@ fn ply_strips_and_fans_give_the_right_triangles() {
 /// The quad as a binary PLY of either byte order.
 fn binary_quad(big_endian: bool) -> Vec<u8> {
     let order = if big_endian { "binary_big_endian" } else { "binary_little_endian" };
-    let mut bytes =
-        header(order, XYZ, "element face 1\nproperty list uchar int vertex_indices\n").into_bytes();
+    let mut bytes = header(order, XYZ, "element face 1\nproperty list uchar int vertex_indices\n").into_bytes();
     let f = |x: f32| if big_endian { x.to_be_bytes() } else { x.to_le_bytes() };
     let i = |x: i32| if big_endian { x.to_be_bytes() } else { x.to_le_bytes() };
     QUAD.iter().flatten().for_each(|&x| bytes.extend(f(x)));
@@ -219,7 +233,9 @@ fn ply_colours_normals_and_uvs_are_read_under_each_name() {
     let mesh = &load_mesh(&write(&dir, "grey.ply", text.as_bytes())).unwrap().meshes[0];
     assert!((mesh.colors[0].x - 0.2158605).abs() < 1e-5, "{}", mesh.colors[0]);
     for (u, v) in [("u", "v"), ("s", "t"), ("texture_u", "texture_v"), ("texture_s", "texture_t")] {
-        let props = format!("{XYZ}property float nx\nproperty float ny\nproperty float nz\nproperty float {u}\nproperty float {v}\n");
+        let props = format!(
+            "{XYZ}property float nx\nproperty float ny\nproperty float nz\nproperty float {u}\nproperty float {v}\n"
+        );
         let text = header("ascii", &props, face)
             + "0 0 0 0 0 1 0 0\n1 0 0 0 0 1 1 0\n1 1 0 0 0 1 1 1\n0 1 0 0 0 1 0 1\n4 0 1 2 3\n";
         let mesh = &load_mesh(&write(&dir, "uv.ply", text.as_bytes())).unwrap().meshes[0];
@@ -291,7 +307,8 @@ fn a_latin1_mtl_keeps_its_materials() {
     let mut mtl = b"newmtl rouge_\xe9\nKd 1 0 0\n".to_vec();
     mtl.extend(b"newmtl vert\nKd 0 1 0\n");
     write(&dir, "m.mtl", &mtl);
-    let mut obj = b"mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl rouge_\xe9\nf 1 2 3\nusemtl vert\nf 1 3 2\n".to_vec();
+    let mut obj =
+        b"mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl rouge_\xe9\nf 1 2 3\nusemtl vert\nf 1 3 2\n".to_vec();
     let import = load_mesh(&write(&dir, "latin.obj", &obj)).unwrap();
     assert_eq!(import.materials.len(), 2, "{:?}", import.warnings);
     assert_eq!(import.materials[0].name, "rouge_é");
