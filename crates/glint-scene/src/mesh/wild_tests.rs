@@ -122,8 +122,9 @@ fn mesh_area(mesh: &MeshDesc) -> f32 {
 #[test]
 fn a_concave_obj_face_is_not_fanned() {
     let dir = folder("concave-obj");
-    // An L (area 3) whose first corner is reflex: a fan from it would cover the notch.
-    let obj = b"v 1 1 0\nv 1 2 0\nv 0 2 0\nv 0 0 0\nv 2 0 0\nv 2 1 0\nf 1 2 3 4 5 6\n";
+    // An L (area 3) starting at a corner that cannot see the whole L: a fan from it
+    // would cover the notch and give area 4.
+    let obj = b"v 2 0 0\nv 2 1 0\nv 1 1 0\nv 1 2 0\nv 0 2 0\nv 0 0 0\nf 1 2 3 4 5 6\n";
     let import = load_mesh(&write(&dir, "l.obj", obj)).unwrap();
     let mesh = &import.meshes[0];
     assert_eq!(mesh.indices.len(), 12);
