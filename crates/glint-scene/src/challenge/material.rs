@@ -413,10 +413,10 @@ fn nested_first_color(src: &values::Src, entries: &[(Yaml, Yaml)], depth: usize)
     }
     for key in NESTED_PATTERN_KEYS {
         let Some(nested) = values::get(entries, key).and_then(Yaml::map) else { continue };
-        if let Some(list) = values::get(nested, "colors") {
-            if let Some(&c) = pattern_colors(src, list)?.first() {
-                return Ok(Some(c));
-            }
+        if let Some(list) = values::get(nested, "colors")
+            && let Some(&c) = pattern_colors(src, list)?.first()
+        {
+            return Ok(Some(c));
         }
         if let Some(c) = nested_first_color(src, nested, depth + 1)? {
             return Ok(Some(c));

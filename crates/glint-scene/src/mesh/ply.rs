@@ -321,11 +321,11 @@ impl Data {
         vertex_count: usize,
     ) -> Result<(), SceneError> {
         let find = |names: &[&str]| element.properties.iter().position(|p| names.contains(&p.name.as_str()));
-        let find3 = |names: [&[&str]; 3]| names.map(|n| find(n));
+        let find3 = |names: [&[&str]; 3]| names.map(&find);
         let xyz = find3(VertexNames::POSITION);
         let nxyz = find3(VertexNames::NORMAL);
         let rgb = find3(VertexNames::COLOR);
-        let uv = VertexNames::UV.map(|n| find(n));
+        let uv = VertexNames::UV.map(find);
         let indices = element
             .properties
             .iter()
