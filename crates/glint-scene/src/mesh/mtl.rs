@@ -7,7 +7,7 @@
 //! | `Ke` | emission (an area light for the path tracer) |
 //! | `d` < 1 or `Tr` > 0 (times `Tf`) | transmission straight through (ior 1), diffuse scaled by `d` |
 //! | `illum` 3, 5, 7 (and 4, 6) | mirror reflection in the `Ks` colour |
-//! | `illum` 4, 6, 7, 9 | glass: transmission `Tf` refracted with ior `Ni` (1.5 when absent) |
+//! | `illum` 4, 6, 7, 9 | glass: transmission `Tf` refracted with ior `Ni` (1.5 when absent); a smooth dielectric for the path tracer |
 //!
 //! Without an `illum` of 3 to 7 a surface has no mirror reflection (illum 2, a
 //! highlight only, is what exporters write for ordinary surfaces). `map_Ks`, bump and
@@ -18,7 +18,7 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
-use glint_core::desc::{MaterialDesc, TextureDesc};
+use glint_core::desc::{BsdfDesc, MaterialDesc, ScalarParam, TextureDesc};
 
 use super::decode_text;
 
@@ -170,6 +170,14 @@ impl Entry {
             m.transmissive = if opacity < 1.0 { (1.0 - opacity) * filter } else { filter };
             m.ior = self.ni.filter(|&n| n > 0.0).unwrap_or(1.5);
             m.kd = opacity.min(1.0 - m.transmissive.max_element()).max(0.0);
+            // The path tracer draws it as smooth glass, with Fresnel weighting.
+            m.bsdf = Some(BsdfDesc::Dielectric {
+                int_ior: m.ior,
+                ext_ior: 1.0,
+                reflectance: Vec3::ONE,
+                transmittance: m.transmissive,
+                alpha: ScalarParam::constant(0.0),
+            });
         } else if opacity < 1.0 {
             m.transmissive = (1.0 - opacity) * filter;
             m.kd = opacity;

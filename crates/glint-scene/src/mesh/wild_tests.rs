@@ -375,6 +375,8 @@ newmtl bumpy\nmap_Ks spec.png\nbump -bm 0.3 b.png\nnorm n.png\n";
     assert_eq!(m("shiny").reflective, Some(Vec3::ZERO), "illum 2 is a highlight, not a mirror");
     assert_eq!((m("glass").transmissive, m("glass").ior), (Vec3::ONE, 1.5));
     assert_eq!(m("glass").reflective, Some(Vec3::ONE));
+    assert!(matches!(m("glass").bsdf, Some(glint_core::desc::BsdfDesc::Dielectric { int_ior: 1.5, .. })));
+    assert_eq!(m("veil").bsdf, None, "dissolve is not glass");
     let unused: Vec<_> = import.warnings.iter().filter(|w| w.contains("read but not used")).collect();
     assert_eq!(unused.len(), 1, "{:?}", import.warnings);
     assert!(unused[0].contains("m.mtl") && unused[0].contains("'bumpy'"), "{}", unused[0]);
