@@ -205,6 +205,10 @@ impl Pool {
         }
         self.missing_uv_faces += usize::from(missing_uv);
         self.missing_normal_faces += usize::from(missing_normal);
+        if face.len() == 3 {
+            group.indices.extend(face);
+            return Ok(());
+        }
         let points: Vec<Vec3> = face.iter().map(|&c| self.positions[group.corners[c as usize].0 as usize]).collect();
         for [a, b, c] in polygon::triangulate(&points) {
             group.indices.extend([face[a], face[b], face[c]]);

@@ -8,9 +8,14 @@
 
 use glam::{Vec2, Vec3};
 
-/// Past this many corners a polygon is fanned: ear clipping is quadratic or worse, and
-/// polygons this large are fans or caps in practice.
-const MAX_EAR_CLIPPED: usize = 4096;
+/// Past this many corners a polygon is fanned: polygons this large are fans or caps in
+/// practice.
+const MAX_EAR_CLIPPED: usize = 1024;
+
+/// Ear tests allowed per polygon, times its corners squared: a clean polygon needs about
+/// one pass per ear, while a tangled one (fuzzed input) could need cubic time. Past the
+/// budget every convex corner counts as an ear, so the work stays quadratic.
+const EAR_TEST_BUDGET: usize = 2;
 
 /// The triangles of the polygon with corners `points`, in order, as indices into
 /// `points`, wound as the polygon is. Fewer than 3 corners give none.
@@ -65,6 +70,7 @@ fn ear_clip(flat: &[Vec2]) -> Vec<[usize; 3]> {
     // without area, perhaps wound backwards.
     let (min, max) = flat.iter().fold((flat[0], flat[0]), |(lo, hi), &p| (lo.min(p), hi.max(p)));
     let tiny = 1e-6 * (max - min).length_squared();
+    let mut budget = EAR_TEST_BUDGET * flat.len() * flat.len();
     while ring.len() > 3 {
         let m = ring.len();
         let corner = |k: usize| [ring[(k + m - 1) % m], ring[k], ring[(k + 1) % m]];
@@ -72,10 +78,11 @@ fn ear_clip(flat: &[Vec2]) -> Vec<[usize; 3]> {
             let [a, b, c] = corner(k);
             cross(flat[a], flat[b], flat[c]) > tiny
         };
-        let ear = (0..m)
-            .find(|&k| convex(k) && is_ear(flat, &ring, corner(k), tiny))
-            .or_else(|| (0..m).find(|&k| convex(k)))
-            .unwrap_or(0);
+        let mut is_clean_ear = |k: usize| {
+            budget = budget.saturating_sub(m);
+            budget == 0 || is_ear(flat, &ring, corner(k), tiny)
+        };
+        let ear = (0..m).find(|&k| convex(k) && is_clean_ear(k)).or_else(|| (0..m).find(|&k| convex(k))).unwrap_or(0);
         triangles.push(corner(ear));
         ring.remove(ear);
     }

@@ -106,6 +106,10 @@ fn degenerate_and_non_planar_polygons_triangulate_without_panicking() {
     ];
     assert_eq!(triangulate(&saddle).len(), 3);
     assert!(triangulate(&[Vec3::ZERO, Vec3::X]).is_empty());
+    // A tangle of 1000 corners (every ear test fails) finishes, in quadratic time.
+    let tangle: Vec<Vec3> =
+        (0..1000).map(|k| Vec3::new((k * 7919 % 1000) as f32, (k * 104_729 % 997) as f32, 0.0)).collect();
+    assert_eq!(triangulate(&tangle).len(), 998);
 }
 
 /// Sum of the areas of the triangles of `mesh`.
