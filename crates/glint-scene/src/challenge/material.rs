@@ -231,8 +231,14 @@ impl Reader {
         let kind = values::word(src, values::required(src, &entries, node.pos, "type", "a pattern")?, "type")?;
         if !PATTERN_TYPES.contains(&kind) {
             let at = values::get(&entries, "type").map_or(node.pos, |t| t.pos);
-            return Err(src
-                .invalid(at, format!("unknown pattern type '{kind}'; expected one of: {}", PATTERN_TYPES.join(", "))));
+            return Err(src.invalid(
+                at,
+                format!(
+                    "unknown pattern type '{kind}'{}; expected one of: {}",
+                    values::did_you_mean(kind, &PATTERN_TYPES),
+                    PATTERN_TYPES.join(", ")
+                ),
+            ));
         }
         let colors = match values::get(&entries, "colors") {
             Some(list) => pattern_colors(src, list)?,

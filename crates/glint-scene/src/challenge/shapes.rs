@@ -65,9 +65,10 @@ impl Reader {
                         .collect();
                     templates.sort_unstable();
                     known.extend(templates);
+                    let hint = values::did_you_mean(kind, &known);
                     Err(self.src.invalid(
                         kind_node.pos,
-                        format!("unknown object '{kind}'; expected one of: {}", known.join(", ")),
+                        format!("unknown object '{kind}'{hint}; expected one of: {}", known.join(", ")),
                     ))
                 }
             },

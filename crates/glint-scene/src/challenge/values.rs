@@ -156,8 +156,12 @@ pub fn unknown_keys(src: &Src, entries: &[(Yaml, Yaml)], known: &[&str], place: 
 /// "unknown key 'k' {place} is ignored", with the nearest known key when one is close
 /// (`field_of_view` for `field-of-view`, a letter or two amiss) and every known key.
 pub fn unknown_key(name: &str, place: &str, known: &[&str]) -> String {
-    let hint = nearest(name, known).map(|k| format!(" (did you mean '{k}'?)")).unwrap_or_default();
-    format!("unknown key '{name}' {place} is ignored{hint}; known keys: {}", known.join(", "))
+    format!("unknown key '{name}' {place} is ignored{}; known keys: {}", did_you_mean(name, known), known.join(", "))
+}
+
+/// " (did you mean 'x'?)" when a word of `known` is close to `word`, else nothing.
+pub fn did_you_mean(word: &str, known: &[&str]) -> String {
+    nearest(word, known).map(|k| format!(" (did you mean '{k}'?)")).unwrap_or_default()
 }
 
 /// The word of `known` closest to `word`, when it is close enough to be a slip: at most
