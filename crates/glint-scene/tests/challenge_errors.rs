@@ -35,7 +35,7 @@ fn unknown_objects_transforms_and_patterns_list_the_alternatives() {
         &format!("{CAMERA}- add: sphre\n"),
         8,
         8,
-        "unknown object 'sphre'; expected one of: camera, light, sphere",
+        "unknown object 'sphre' (did you mean 'sphere'?); expected one of: camera, light, sphere",
     );
     error_at(
         &format!("{CAMERA}- add: cube\n  transform:\n    - [rotate, 1]\n"),
@@ -47,7 +47,7 @@ fn unknown_objects_transforms_and_patterns_list_the_alternatives() {
         &format!("{CAMERA}- add: plane\n  material:\n    pattern:\n      type: checker\n"),
         11,
         13,
-        "unknown pattern type 'checker'",
+        "unknown pattern type 'checker' (did you mean 'checkers'?)",
     );
     error_at(&format!("{CAMERA}- remove: cube\n"), 8, 3, "starts with 'add: KIND'");
 }

@@ -446,3 +446,94 @@ fn obj_files_load_relative_to_the_scene_and_a_missing_one_is_located() {
     assert!(err.message.contains("teapot.obj"), "{err}");
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+#[test]
+fn csg_operands_may_name_their_kind_with_type() {
+    let scene = quiet(
+        "
+- add: csg
+  operation: intersection
+  left:
+    type: cube
+  right:
+    type: sphere
+    transform: [[scale, 1.3, 1.3, 1.3]]
+",
+    );
+    let NodeKind::Solid(SolidDesc::Csg { op, children }) = &objects(&scene)[0].kind else { panic!("a csg") };
+    assert_eq!(op, &SetOp::Intersection);
+    assert!(matches!(children[0].kind, NodeKind::Shape { shape: ShapeDesc::Cube, .. }));
+    assert!(matches!(children[1].kind, NodeKind::Shape { shape: ShapeDesc::Sphere, .. }));
+    assert_eq!(children[1].transform, vec![TransformOp::Scale(Vec3::splat(1.3))]);
+}
+
+#[test]
+fn shadow_false_is_accepted_everywhere_and_said_to_be_ignored() {
+    let (scene, warnings) = parse(
+        "
+- add: group
+  shadow: false
+  children:
+    - add: csg
+      shadow: false
+      operation: union
+      left: { add: cube, shadow: false }
+      right: { add: sphere }
+- add: plane
+  shadow: true
+",
+    );
+    assert_eq!(objects(&scene).len(), 2);
+    assert_eq!(warnings.len(), 3, "{warnings:?}");
+    assert!(warnings.iter().all(|w| w.contains("'shadow: false' is ignored")), "{warnings:?}");
+    assert!(warnings[0].starts_with("scene.yml:11:11: "), "{warnings:?}");
+}
+
+#[test]
+fn unknown_keys_suggest_the_nearest_known_one() {
+    let text = "
+- add: camera
+  width: 10
+  height: 10
+  field_of_view: 1
+  field-of-view: 1
+  from: [0, 0, -5]
+  to: [0, 0, 0]
+- add: sphere
+  material: { colour: [1, 0, 0], reflectve: 0.5, glitter: 1 }
+";
+    let (_, warnings) = parse_challenge(text, "scene.yml").unwrap();
+    let about =
+        |key: &str| warnings.iter().find(|w| w.contains(&format!("'{key}'"))).unwrap_or_else(|| panic!("{warnings:?}"));
+    assert!(about("field_of_view").contains("did you mean 'field-of-view'?"), "{warnings:?}");
+    assert!(about("field_of_view").contains("known keys: "), "{warnings:?}");
+    assert!(about("colour").contains("did you mean 'color'?"), "{warnings:?}");
+    assert!(about("reflectve").contains("did you mean 'reflective'?"), "{warnings:?}");
+    assert!(!about("glitter").contains("did you mean"), "{warnings:?}");
+}
+
+#[test]
+fn patterns_without_colors_take_the_first_colour_of_a_nested_pattern() {
+    let (scene, warnings) = parse(
+        "
+- add: sphere
+  material:
+    color: [0, 0, 1]
+    pattern:
+      type: blended
+      a: { type: stripes, colors: [[0, 1, 0], [1, 1, 1]] }
+      b: { type: stripes, colors: [[1, 0, 0], [1, 1, 1]] }
+- add: sphere
+  material:
+    color: [0, 0, 1]
+    pattern:
+      type: perturbed
+      pattern: { type: rings }
+",
+    );
+    let objects = objects(&scene);
+    assert_eq!(scene.materials[shape(&objects[0]).1].diffuse, Vec3::Y);
+    // No colour anywhere: the material's own.
+    assert_eq!(scene.materials[shape(&objects[1]).1].diffuse, Vec3::Z);
+    assert_eq!(warnings.len(), 2, "{warnings:?}");
+}

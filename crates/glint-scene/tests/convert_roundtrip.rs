@@ -212,6 +212,7 @@ fn everything(texture: &Path) -> SceneDesc {
             emission: Vec3::new(0.1, 2.0, 17.5),
             two_sided: false,
             microfacet: glint_core::desc::MicrofacetKind::Beckmann,
+            casts_shadows: false,
         },
         MaterialDesc { name: "plain".into(), texture: Some(0), diffuse: Vec3::splat(0.5), ..MaterialDesc::default() },
         MaterialDesc { name: String::new(), ..MaterialDesc::default() },

@@ -183,9 +183,7 @@ impl Reader {
         for (key, _) in entries {
             let name = key.scalar().unwrap_or("");
             if !MATERIAL_KEYS.contains(&name) {
-                let message =
-                    format!("unknown key '{name}' in 'material' is ignored; known keys: {}", MATERIAL_KEYS.join(", "));
-                self.warn(key.pos, message);
+                self.warn(key.pos, values::unknown_key(name, "in 'material'", &MATERIAL_KEYS));
             }
         }
         let src = &self.src;
@@ -233,8 +231,14 @@ impl Reader {
         let kind = values::word(src, values::required(src, &entries, node.pos, "type", "a pattern")?, "type")?;
         if !PATTERN_TYPES.contains(&kind) {
             let at = values::get(&entries, "type").map_or(node.pos, |t| t.pos);
-            return Err(src
-                .invalid(at, format!("unknown pattern type '{kind}'; expected one of: {}", PATTERN_TYPES.join(", "))));
+            return Err(src.invalid(
+                at,
+                format!(
+                    "unknown pattern type '{kind}'{}; expected one of: {}",
+                    values::did_you_mean(kind, &PATTERN_TYPES),
+                    PATTERN_TYPES.join(", ")
+                ),
+            ));
         }
         let colors = match values::get(&entries, "colors") {
             Some(list) => pattern_colors(src, list)?,
@@ -249,7 +253,10 @@ impl Reader {
                 self.warnings.push(warning);
             }
         }
-        let first = colors.first().copied().unwrap_or(color);
+        let first = match colors.first() {
+            Some(&c) => c,
+            None => nested_first_color(src, &entries, 0)?.unwrap_or(color),
+        };
         let fallback = |reader: &mut Self, why: String| {
             reader.warn(node.pos, format!("{why}; the pattern's first colour {first} is used instead"));
             Surface { color: first, checker: None }
@@ -396,6 +403,32 @@ fn shape_name(shape: ShapeDesc) -> &'static str {
         ShapeDesc::Torus { .. } => "torus",
         ShapeDesc::Mesh { .. } => "mesh",
     }
+}
+
+/// Where a pattern without `colors` finds its first colour: the nested patterns of
+/// `blended` (`a`, `b`), `perturbed` (`pattern`), `map` (`uv_pattern`) and cube maps (the
+/// faces), in that order.
+const NESTED_PATTERN_KEYS: [&str; 10] =
+    ["a", "b", "pattern", "uv_pattern", "left", "right", "front", "back", "up", "down"];
+
+/// The first colour of the first nested pattern that has one (patterns named by a
+/// `define` are not followed), for a pattern drawn in one colour.
+fn nested_first_color(src: &values::Src, entries: &[(Yaml, Yaml)], depth: usize) -> Result<Option<Vec3>> {
+    if depth > 8 {
+        return Ok(None);
+    }
+    for key in NESTED_PATTERN_KEYS {
+        let Some(nested) = values::get(entries, key).and_then(Yaml::map) else { continue };
+        if let Some(list) = values::get(nested, "colors")
+            && let Some(&c) = pattern_colors(src, list)?.first()
+        {
+            return Ok(Some(c));
+        }
+        if let Some(c) = nested_first_color(src, nested, depth + 1)? {
+            return Ok(Some(c));
+        }
+    }
+    Ok(None)
 }
 
 fn pattern_colors(src: &values::Src, list: &Yaml) -> Result<Vec<Vec3>> {

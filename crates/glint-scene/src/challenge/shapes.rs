@@ -6,11 +6,13 @@
 //! are placed with transforms where that is exact and approximated with a warning where
 //! it is not.
 
+use std::borrow::Cow;
+
 use glam::Vec3;
 use glint_core::desc::{NodeDesc, NodeKind, SetOp, ShapeDesc, SolidDesc, TransformOp};
 
 use super::Reader;
-use super::values::{self, Result};
+use super::values::{self, Result, Src};
 use super::yaml::{Value, Yaml};
 use crate::error::{SceneError, SceneErrorKind};
 use crate::native::lexer::Pos;
@@ -63,9 +65,10 @@ impl Reader {
                         .collect();
                     templates.sort_unstable();
                     known.extend(templates);
+                    let hint = values::did_you_mean(kind, &known);
                     Err(self.src.invalid(
                         kind_node.pos,
-                        format!("unknown object '{kind}'; expected one of: {}", known.join(", ")),
+                        format!("unknown object '{kind}'{hint}; expected one of: {}", known.join(", ")),
                     ))
                 }
             },
@@ -87,11 +90,7 @@ impl Reader {
         }
         let mut warnings = Vec::new();
         values::unknown_keys(src, entries, &known, &format!("in '{kind}'"), &mut warnings);
-        if let Some(shadow) = values::get(entries, "shadow")
-            && !values::boolean(src, shadow, "shadow")?
-        {
-            warnings.push(src.warning(shadow.pos, "glint objects always cast shadows; 'shadow: false' is ignored"));
-        }
+        no_shadow(src, entries, &mut warnings)?;
         let transform = match values::get(entries, "transform") {
             Some(t) => self.transform(t, "transform")?,
             None => Vec::new(),
@@ -213,10 +212,11 @@ impl Reader {
         values::unknown_keys(
             &self.src,
             entries,
-            &["add", "children", "transform", "material"],
+            &["add", "children", "transform", "material", "shadow"],
             "in 'group'",
             &mut warnings,
         );
+        no_shadow(&self.src, entries, &mut warnings)?;
         for warning in warnings {
             if !self.warnings.contains(&warning) {
                 self.warnings.push(warning);
@@ -253,6 +253,7 @@ impl Reader {
         let mut warnings = Vec::new();
         let known = ["add", "operation", "left", "right", "transform", "material", "shadow"];
         values::unknown_keys(&self.src, entries, &known, "in 'csg'", &mut warnings);
+        no_shadow(&self.src, entries, &mut warnings)?;
         for warning in warnings {
             if !self.warnings.contains(&warning) {
                 self.warnings.push(warning);
@@ -273,8 +274,8 @@ impl Reader {
         let material = values::get(entries, "material").or(inherited);
         let mut children = Vec::new();
         for side in ["left", "right"] {
-            let child = values::required(&self.src, entries, item.pos, side, "a csg")?;
-            match self.object(child, material, depth + 1)? {
+            let child = operand(values::required(&self.src, entries, item.pos, side, "a csg")?);
+            match self.object(&child, material, depth + 1)? {
                 Some(node) => children.push(node),
                 None => {
                     self.warn(child.pos, format!("the csg's {side} side draws nothing, so the csg is skipped"));
@@ -302,6 +303,7 @@ impl Reader {
             "in 'obj'",
             &mut warnings,
         );
+        no_shadow(&self.src, entries, &mut warnings)?;
         for warning in warnings {
             if !self.warnings.contains(&warning) {
                 self.warnings.push(warning);
@@ -354,6 +356,43 @@ fn nappe(end: f32) -> Vec<TransformOp> {
         TransformOp::Scale(Vec3::new(end.abs(), -0.5 * end, end.abs())),
         TransformOp::Translate(Vec3::new(0.0, 0.5 * end, 0.0)),
     ]
+}
+
+/// A warning for `shadow: false`: glint's scene description has no per-object switch
+/// for casting shadows (a core change), so the object still casts them.
+fn no_shadow(src: &Src, entries: &[(Yaml, Yaml)], warnings: &mut Vec<String>) -> Result<()> {
+    if let Some(shadow) = values::get(entries, "shadow")
+        && !values::boolean(src, shadow, "shadow")?
+    {
+        warnings.push(src.warning(
+            shadow.pos,
+            "glint has no per-object switch for casting shadows yet; 'shadow: false' is ignored and the object casts them",
+        ));
+    }
+    Ok(())
+}
+
+/// A csg operand as the book's bonus scenes write it, with `type: cube` in place of
+/// `add: cube`, turned into the usual form.
+fn operand(child: &Yaml) -> Cow<'_, Yaml> {
+    let Some(entries) = child.map().filter(|e| values::get(e, "add").is_none()) else {
+        return Cow::Borrowed(child);
+    };
+    if values::get(entries, "type").is_none() {
+        return Cow::Borrowed(child);
+    }
+    let renamed = entries
+        .iter()
+        .map(|(k, v)| {
+            if k.scalar() == Some("type") {
+                let key = Yaml { value: Value::Scalar { text: "add".into(), plain: true }, pos: k.pos };
+                (key, v.clone())
+            } else {
+                (k.clone(), v.clone())
+            }
+        })
+        .collect();
+    Cow::Owned(Yaml { value: Value::Map(renamed), pos: child.pos })
 }
 
 /// A defined object template used as `add: NAME`: the definition's keys overridden by

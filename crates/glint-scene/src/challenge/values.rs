@@ -148,12 +148,49 @@ pub fn unknown_keys(src: &Src, entries: &[(Yaml, Yaml)], known: &[&str], place: 
     for (key, _) in entries {
         let name = key.scalar().unwrap_or("");
         if !known.contains(&name) {
-            warnings.push(src.warning(
-                key.pos,
-                format!("unknown key '{name}' {place} is ignored; known keys: {}", known.join(", ")),
-            ));
+            warnings.push(src.warning(key.pos, unknown_key(name, place, known)));
         }
     }
+}
+
+/// "unknown key 'k' {place} is ignored", with the nearest known key when one is close
+/// (`field_of_view` for `field-of-view`, a letter or two amiss) and every known key.
+pub fn unknown_key(name: &str, place: &str, known: &[&str]) -> String {
+    format!("unknown key '{name}' {place} is ignored{}; known keys: {}", did_you_mean(name, known), known.join(", "))
+}
+
+/// " (did you mean 'x'?)" when a word of `known` is close to `word`, else nothing.
+pub fn did_you_mean(word: &str, known: &[&str]) -> String {
+    nearest(word, known).map(|k| format!(" (did you mean '{k}'?)")).unwrap_or_default()
+}
+
+/// The word of `known` closest to `word`, when it is close enough to be a slip: at most
+/// a third of its letters amiss, `_`, `-` and case aside.
+pub fn nearest<'k>(word: &str, known: &[&'k str]) -> Option<&'k str> {
+    let fold = |w: &str| w.to_lowercase().replace(['_', ' '], "-");
+    let word = fold(word);
+    known
+        .iter()
+        .map(|&k| (edit_distance(&word, &fold(k)), k))
+        .filter(|&(d, k)| d <= (k.chars().count().max(word.chars().count()) / 3).max(1))
+        .min_by_key(|&(d, _)| d)
+        .map(|(_, k)| k)
+}
+
+/// Levenshtein distance: insertions, deletions and substitutions to turn `a` into `b`.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut diagonal = row[0];
+        row[0] = i + 1;
+        for (j, &cb) in b.iter().enumerate() {
+            let next = (diagonal + usize::from(ca != cb)).min(row[j] + 1).min(row[j + 1] + 1);
+            diagonal = row[j + 1];
+            row[j + 1] = next;
+        }
+    }
+    row[b.len()]
 }
 
 /// The value of `key` in `entries`, or an error naming the mapping that needs it.

@@ -1,5 +1,5 @@
-//! Triangle-mesh files: Wavefront OBJ (+MTL), PLY (ASCII and binary little-endian) and
-//! glTF 2.0 (`.gltf`/`.glb`).
+//! Triangle-mesh files: Wavefront OBJ (+MTL), PLY (ASCII and binary of either byte order)
+//! and glTF 2.0 (`.gltf`/`.glb`).
 //!
 //! Every reader produces a [`MeshImport`]: meshes stored once, the materials and
 //! textures they use, and placements (a mesh, a material, a matrix). [`model_scene`]
@@ -8,9 +8,12 @@
 //! `mesh "name" { file "…" }`.
 
 mod gltf;
+mod mtl;
 mod obj;
 mod ply;
+mod polygon;
 
+use std::borrow::Cow;
 use std::path::Path;
 
 use glam::{Mat4, Vec3};
@@ -86,8 +89,36 @@ pub(crate) fn read_limited(
     (&mut file).take(4096).read_to_end(&mut head).map_err(|e| {
         SceneError::new(SceneErrorKind::Io, path.display().to_string(), 0, 0, format!("cannot read mesh file: {e}"))
     })?;
+    check_lfs_pointer(path, &head)?;
     check_head(&head)?;
     Ok(file.finish(head)?)
+}
+
+/// The first line of a Git LFS pointer file: what a clone without `git lfs` holds in
+/// place of a large file.
+const LFS_POINTER: &[u8] = b"version https://git-lfs.github.com/spec/v1";
+
+/// Refuses a Git LFS pointer with what to do about it; otherwise it would be read as a
+/// broken mesh of its format.
+pub(crate) fn check_lfs_pointer(path: &Path, head: &[u8]) -> Result<(), SceneError> {
+    if head.starts_with(LFS_POINTER) {
+        return Err(mesh_error(
+            path,
+            0,
+            "the file is a Git LFS pointer, not the mesh: run `git lfs pull` in its repository to fetch it",
+        ));
+    }
+    Ok(())
+}
+
+/// Text of a file written by any tool: UTF-8 when it is, Latin-1 otherwise (older
+/// exporters write material and texture names in the system's 8-bit code page, and
+/// every byte sequence is valid Latin-1).
+pub(crate) fn decode_text(bytes: &[u8]) -> Cow<'_, str> {
+    match std::str::from_utf8(bytes) {
+        Ok(text) => Cow::Borrowed(text),
+        Err(_) => Cow::Owned(bytes.iter().map(|&b| char::from(b)).collect()),
+    }
 }
 
 /// Reads a mesh file of any supported format (chosen by extension).
@@ -116,6 +147,7 @@ pub fn load_mesh(path: &Path) -> Result<MeshImport, SceneError> {
 pub fn parse_mesh(path: &Path, bytes: Vec<u8>) -> Result<MeshImport, SceneError> {
     let format = format_of(path)?;
     let head = &bytes[..bytes.len().min(4096)];
+    check_lfs_pointer(path, head)?;
     let import = match format {
         MeshFormat::Obj => obj::check_head(path, head).and_then(|()| obj::parse(path, &bytes))?,
         MeshFormat::Ply => ply::check_head(path, head).and_then(|()| ply::parse(path, &bytes))?,
@@ -159,6 +191,7 @@ pub fn merged(import: &MeshImport, name: &str, path: &str) -> MeshDesc {
     let mut out = MeshDesc { name: name.to_owned(), path: path.to_owned(), ..Default::default() };
     let all_normals = import.placements.iter().all(|p| !import.meshes[p.mesh].normals.is_empty());
     let all_uvs = import.placements.iter().all(|p| !import.meshes[p.mesh].uvs.is_empty());
+    let all_colors = import.placements.iter().all(|p| !import.meshes[p.mesh].colors.is_empty());
     for p in &import.placements {
         let mesh = &import.meshes[p.mesh];
         let base = out.positions.len() as u32;
@@ -169,6 +202,9 @@ pub fn merged(import: &MeshImport, name: &str, path: &str) -> MeshDesc {
         }
         if all_uvs {
             out.uvs.extend(&mesh.uvs);
+        }
+        if all_colors {
+            out.colors.extend(&mesh.colors);
         }
         // A mirroring matrix turns the winding around; swap two corners to keep it.
         let mirrored = p.world_from_object.determinant() < 0.0;
@@ -249,3 +285,5 @@ pub fn model_scene(import: MeshImport) -> SceneDesc {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod wild_tests;
