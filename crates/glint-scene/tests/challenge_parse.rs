@@ -396,10 +396,9 @@ fn triangles_and_unknown_keys_are_skipped_with_located_warnings() {
 ",
     );
     assert_eq!(objects(&scene).len(), 1);
-    assert_eq!(warnings.len(), 3, "{warnings:?}");
+    assert_eq!(warnings.len(), 2, "{warnings:?}");
     assert!(warnings[0].starts_with("scene.yml:10:8: ") && warnings[0].contains("triangle"), "{warnings:?}");
     assert!(warnings.iter().any(|w| w.starts_with("scene.yml:14:3: ") && w.contains("'colour'")), "{warnings:?}");
-    assert!(warnings.iter().any(|w| w.contains("shadow")), "{warnings:?}");
 }
 
 #[test]
@@ -468,25 +467,39 @@ fn csg_operands_may_name_their_kind_with_type() {
 }
 
 #[test]
-fn shadow_false_is_accepted_everywhere_and_said_to_be_ignored() {
+fn shadow_false_makes_everything_under_it_cast_no_shadow() {
     let (scene, warnings) = parse(
         "
 - add: group
-  shadow: false
   children:
     - add: csg
       shadow: false
       operation: union
-      left: { add: cube, shadow: false }
+      left: { add: cube }
       right: { add: sphere }
+    - add: sphere
 - add: plane
   shadow: true
+- add: cube
+  shadow: false
 ",
     );
-    assert_eq!(objects(&scene).len(), 2);
-    assert_eq!(warnings.len(), 3, "{warnings:?}");
-    assert!(warnings.iter().all(|w| w.contains("'shadow: false' is ignored")), "{warnings:?}");
-    assert!(warnings[0].starts_with("scene.yml:11:11: "), "{warnings:?}");
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let casts = |node: &NodeDesc| match &node.kind {
+        NodeKind::Shape { material, .. } => scene.materials[*material].casts_shadows,
+        other => panic!("{other:?}"),
+    };
+    let objects = objects(&scene);
+    let NodeKind::Group(group) = &objects[0].kind else { panic!() };
+    let NodeKind::Solid(SolidDesc::Csg { children, .. }) = &group[0].kind else { panic!() };
+    assert!(children.iter().all(|c| !casts(c)), "both operands of the csg cast no shadow");
+    assert!(casts(&group[1]), "a sibling of the csg still casts one");
+    assert!(casts(&objects[1]) && !casts(&objects[2]));
+    // The shadowless copy is the same material otherwise.
+    let NodeKind::Shape { material, .. } = &objects[2].kind else { panic!() };
+    let NodeKind::Shape { material: plain, .. } = &group[1].kind else { panic!() };
+    let copy = MaterialDesc { casts_shadows: true, name: String::new(), ..scene.materials[*material].clone() };
+    assert_eq!(copy, MaterialDesc { name: String::new(), ..scene.materials[*plain].clone() });
 }
 
 #[test]

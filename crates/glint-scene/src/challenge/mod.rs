@@ -79,6 +79,7 @@ pub fn parse_challenge(text: &str, file_name: &str) -> std::result::Result<(Scen
         defines: HashMap::new(),
         camera_at: None,
         materials: MaterialCache::default(),
+        shadowless: HashMap::new(),
         node_count: 0,
     };
     reader.desc.settings.ambient_light = Vec3::ZERO;
@@ -102,6 +103,8 @@ struct Reader {
     defines: HashMap<String, Define>,
     camera_at: Option<Pos>,
     materials: MaterialCache,
+    /// Material → its copy that casts no shadow (for `shadow: false`).
+    shadowless: HashMap<usize, usize>,
     /// Scene nodes created so far, against [`MAX_NODES`].
     node_count: usize,
 }

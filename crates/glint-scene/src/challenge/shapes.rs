@@ -9,7 +9,7 @@
 use std::borrow::Cow;
 
 use glam::Vec3;
-use glint_core::desc::{NodeDesc, NodeKind, SetOp, ShapeDesc, SolidDesc, TransformOp};
+use glint_core::desc::{MaterialDesc, NodeDesc, NodeKind, SetOp, ShapeDesc, SolidDesc, TransformOp};
 
 use super::Reader;
 use super::values::{self, Result, Src};
@@ -37,11 +37,57 @@ impl Reader {
         let entries = values::mapping(src, item, "an object")?;
         let kind_node = values::required(src, entries, item.pos, "add", "an object")?;
         let kind = values::word(src, kind_node, "add")?;
-        match kind {
+        let shadowless = casts_no_shadow(src, entries)?;
+        let node = match kind {
             "sphere" | "plane" | "cube" | "cylinder" | "cone" => self.shape(item, entries, kind, inherited).map(Some),
             "group" => self.group(item, entries, inherited, depth).map(Some),
             "csg" => self.csg(item, entries, inherited, depth),
             "obj" => self.obj(item, entries, inherited),
+            _ => return self.other_object(item, kind_node, kind, inherited, depth),
+        }?;
+        Ok(node.map(|mut node| {
+            if shadowless {
+                self.without_shadows(&mut node);
+            }
+            node
+        }))
+    }
+
+    /// Every material in `node` replaced by a copy that casts no shadow (`shadow:
+    /// false` on the item or a group around it).
+    fn without_shadows(&mut self, node: &mut NodeDesc) {
+        let mut each = |material: &mut usize| *material = self.shadowless_material(*material);
+        visit_materials(node, &mut each);
+    }
+
+    /// The index of a copy of material `index` that casts no shadow, made once.
+    fn shadowless_material(&mut self, index: usize) -> usize {
+        if !self.desc.materials[index].casts_shadows {
+            return index;
+        }
+        if let Some(&copy) = self.shadowless.get(&index) {
+            return copy;
+        }
+        let original = &self.desc.materials[index];
+        let copy =
+            MaterialDesc { name: format!("{} (no shadow)", original.name), casts_shadows: false, ..original.clone() };
+        self.desc.materials.push(copy);
+        self.shadowless.insert(index, self.desc.materials.len() - 1);
+        self.desc.materials.len() - 1
+    }
+
+    /// Kinds beyond the primitives, groups, CSG and OBJ: skipped ones, misplaced cameras
+    /// and lights, defined templates, or an unknown name.
+    fn other_object(
+        &mut self,
+        item: &Yaml,
+        kind_node: &Yaml,
+        kind: &str,
+        inherited: Option<&Yaml>,
+        depth: usize,
+    ) -> Result<Option<NodeDesc>> {
+        let src = &self.src;
+        match kind {
             _ if SKIPPED.contains(&kind) => {
                 self.warn(kind_node.pos, format!("glint has no '{kind}' primitive yet; the object is skipped"));
                 Ok(None)
@@ -90,7 +136,6 @@ impl Reader {
         }
         let mut warnings = Vec::new();
         values::unknown_keys(src, entries, &known, &format!("in '{kind}'"), &mut warnings);
-        no_shadow(src, entries, &mut warnings)?;
         let transform = match values::get(entries, "transform") {
             Some(t) => self.transform(t, "transform")?,
             None => Vec::new(),
@@ -216,7 +261,6 @@ impl Reader {
             "in 'group'",
             &mut warnings,
         );
-        no_shadow(&self.src, entries, &mut warnings)?;
         for warning in warnings {
             if !self.warnings.contains(&warning) {
                 self.warnings.push(warning);
@@ -253,7 +297,6 @@ impl Reader {
         let mut warnings = Vec::new();
         let known = ["add", "operation", "left", "right", "transform", "material", "shadow"];
         values::unknown_keys(&self.src, entries, &known, "in 'csg'", &mut warnings);
-        no_shadow(&self.src, entries, &mut warnings)?;
         for warning in warnings {
             if !self.warnings.contains(&warning) {
                 self.warnings.push(warning);
@@ -303,7 +346,6 @@ impl Reader {
             "in 'obj'",
             &mut warnings,
         );
-        no_shadow(&self.src, entries, &mut warnings)?;
         for warning in warnings {
             if !self.warnings.contains(&warning) {
                 self.warnings.push(warning);
@@ -358,18 +400,12 @@ fn nappe(end: f32) -> Vec<TransformOp> {
     ]
 }
 
-/// A warning for `shadow: false`: glint's scene description has no per-object switch
-/// for casting shadows (a core change), so the object still casts them.
-fn no_shadow(src: &Src, entries: &[(Yaml, Yaml)], warnings: &mut Vec<String>) -> Result<()> {
-    if let Some(shadow) = values::get(entries, "shadow")
-        && !values::boolean(src, shadow, "shadow")?
-    {
-        warnings.push(src.warning(
-            shadow.pos,
-            "glint has no per-object switch for casting shadows yet; 'shadow: false' is ignored and the object casts them",
-        ));
+/// Whether the item says `shadow: false`: the object is drawn but casts no shadow.
+fn casts_no_shadow(src: &Src, entries: &[(Yaml, Yaml)]) -> Result<bool> {
+    match values::get(entries, "shadow") {
+        Some(shadow) => Ok(!values::boolean(src, shadow, "shadow")?),
+        None => Ok(false),
     }
-    Ok(())
 }
 
 /// A csg operand as the book's bonus scenes write it, with `type: cube` in place of
@@ -429,4 +465,21 @@ fn template(define: &Yaml, item: &Yaml) -> Yaml {
         }
     }
     Yaml { value: Value::Map(merged), pos: item.pos }
+}
+
+/// Calls `each` on every material index in `node` and below.
+fn visit_materials(node: &mut NodeDesc, each: &mut impl FnMut(&mut usize)) {
+    match &mut node.kind {
+        NodeKind::Shape { material, .. } => each(material),
+        NodeKind::Group(children) | NodeKind::Moving { children, .. } => {
+            children.iter_mut().for_each(|c| visit_materials(c, each));
+        }
+        NodeKind::Solid(solid) => match solid {
+            SolidDesc::Csg { children, .. } => children.iter_mut().for_each(|c| visit_materials(c, each)),
+            SolidDesc::Blob { material, .. }
+            | SolidDesc::Implicit { material, .. }
+            | SolidDesc::Quadric { material, .. }
+            | SolidDesc::Superellipsoid { material, .. } => each(material),
+        },
+    }
 }
