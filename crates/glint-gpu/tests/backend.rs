@@ -29,6 +29,8 @@ cone { material "red" scale [0.3 0.4 0.3] translate [1.1 0.4 -0.2] }
 disk { material "white" scale 0.3 rotate [1 0 0] 60 translate [-0.6 1.3 -0.5] }
 plane { material "white" translate [0 -0.01 0] }
 mesh_instance "ball" { material "red" scale 0.3 translate [0.2 1.3 -0.6] }
+material "ghost" { bsdf diffuse { reflectance [0.6 0.5 0.2] } casts_shadows false }
+sphere { material "ghost" scale 0.25 translate [0.9 1.5 0.6] }
 "#;
 
 /// Every BSDF kind, textured parameters, and a Phong material read as a BSDF.

@@ -68,6 +68,8 @@ rectangle { material "amber" scale 0.5 translate [0.5 1.2 0.3] }
 rectangle { material "teal" scale 0.4 translate [0.6 1.6 0.4] }
 cube { material "clay" scale 0.2 translate [0.6 0.9 0.3] }
 sphere { material "tiled" scale 0.25 translate [0 0.25 -0.6] }
+material "ghost" { diffuse [0.6 0.5 0.2] specular 0.2 shininess 20 reflective 0 casts_shadows false }
+sphere { material "ghost" scale 0.25 translate [-0.3 1.5 0.6] }
 "#;
 
 fn with_ball(scene: &str) -> String {

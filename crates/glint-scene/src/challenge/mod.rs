@@ -15,9 +15,9 @@
 //!   `transparency`) maps onto the Whitted material exactly; values are written to the
 //!   image as they are (`Transfer::Identity`), as the book writes its PPM files.
 //!
-//! What glint cannot draw (OBJ meshes, CSG, triangles, solid 3-D patterns on curved
-//! surfaces, open or infinite cylinders and cones) is skipped or approximated with a
-//! warning that names the line.
+//! What glint cannot draw (the `triangle` items, solid 3-D patterns on curved surfaces,
+//! open or infinite cylinders and cones) is skipped or approximated with a warning that
+//! names the line.
 
 mod material;
 mod shapes;

@@ -160,6 +160,7 @@ impl State<'_> {
                     Resource::Bytes(bytes) => (Cow::Owned(bytes), Cow::Borrowed(self.path)),
                     Resource::File(file) => {
                         let bytes = input::read_bytes(&file, InputKind::Image).map_err(|e| fail(e.to_string()))?;
+                        super::super::check_lfs_pointer(&file, &bytes).map_err(|e| fail(e.message))?;
                         (Cow::Owned(bytes), Cow::Owned(file))
                     }
                 }

@@ -227,7 +227,11 @@ fn buffers(
             gltf::buffer::Source::Bin => blob.take().ok_or_else(|| fail("the GLB has no binary chunk".into()))?,
             gltf::buffer::Source::Uri(uri) => match resolve(dir, uri).map_err(fail)? {
                 Resource::Bytes(bytes) => bytes,
-                Resource::File(file) => input::read_bytes(&file, InputKind::Mesh).map_err(|e| fail(e.to_string()))?,
+                Resource::File(file) => {
+                    let bytes = input::read_bytes(&file, InputKind::Mesh).map_err(|e| fail(e.to_string()))?;
+                    super::check_lfs_pointer(&file, &bytes).map_err(|e| fail(e.message))?;
+                    bytes
+                }
             },
         };
         if data.len() < buffer.length() {
