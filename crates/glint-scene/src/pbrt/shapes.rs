@@ -1,0 +1,127 @@
+//! `Shape` → scene nodes: `sphere`, `disk` and `cylinder` as glint primitives or
+//! meshes, and the mesh shapes (`trianglemesh`, `bilinearmesh`, `plymesh`,
+//! `loopsubdiv`) through [`super::meshes`]; `ObjectInstance` places a definition.
+//!
+//! pbrt's disk lies in the plane z = `height` facing +z while glint's faces +y, so it
+//! gets a quarter turn about x (which maps +y onto +z). `ReverseOrientation` turns a
+//! mesh inside out (winding and normals) and mirrors a disk onto itself; on a sphere
+//! it cannot be expressed and is warned about when it matters (an area light).
+
+use std::rc::Rc;
+
+use glam::{Mat3, Vec3};
+use glint_core::desc::{NodeDesc, NodeKind, ShapeDesc, TransformOp};
+
+use super::directives::is_affine;
+use super::meshes;
+use super::params::Params;
+use super::{Reader, matrix_op};
+use crate::error::SceneError;
+use crate::source::{Pos, Source};
+
+/// The quarter turn that lays glint's y-up flat shapes into pbrt's z = 0 plane.
+const Y_TO_Z: TransformOp = TransformOp::Rotate { axis: Vec3::X, degrees: 90.0 };
+
+/// Reads a `Shape` directive into a node of the world or of the object being defined.
+pub(super) fn shape(r: &mut Reader, ty: &str, p: &Params) -> Result<(), SceneError> {
+    check_transform(r, p)?;
+    let mut ops = Vec::new();
+    let reverse = r.gs.reverse_orientation;
+    let shape = match ty {
+        "sphere" => {
+            let radius = p.float_or("radius", 1.0)?;
+            partial_warning(r, p, &[("zmin", -radius), ("zmax", radius), ("phimax", 360.0)])?;
+            if reverse && r.gs.area_light.is_some() {
+                r.warnings.push(p.warning("ReverseOrientation on an emitting sphere is not supported"));
+            }
+            ops.push(TransformOp::Scale(Vec3::splat(radius)));
+            ShapeDesc::Sphere
+        }
+        "disk" => {
+            let radius = p.float_or("radius", 1.0)?;
+            let height = p.float_or("height", 0.0)?;
+            partial_warning(r, p, &[("innerradius", 0.0), ("phimax", 360.0)])?;
+            if reverse {
+                // Mirroring the plane onto itself turns the normal.
+                ops.push(TransformOp::Scale(Vec3::new(1.0, -1.0, 1.0)));
+            }
+            ops.extend([TransformOp::Scale(Vec3::splat(radius)), Y_TO_Z, TransformOp::Translate(Vec3::Z * height)]);
+            ShapeDesc::Disk
+        }
+        "cylinder" | "trianglemesh" | "bilinearmesh" | "plymesh" | "loopsubdiv" => {
+            let Some(mut mesh) = meshes::mesh(r, ty, p)? else { return Ok(()) };
+            if reverse {
+                meshes::flip(&mut mesh);
+            }
+            r.scene.meshes.push(mesh);
+            ShapeDesc::Mesh { index: r.scene.meshes.len() - 1 }
+        }
+        other => {
+            r.warnings.push(p.warning(format!("shape '{other}' is not supported and is skipped")));
+            for param in &p.list {
+                p.get(&param.name);
+            }
+            return Ok(());
+        }
+    };
+    for unsupported in ["alpha", "emissionfilename"] {
+        if p.has(unsupported) {
+            p.get(unsupported);
+            r.warnings.push(p.warning(format!("\"{unsupported}\" is not supported and is ignored")));
+        }
+    }
+    if r.current_object.is_some() && r.gs.area_light.is_some() {
+        r.warnings.push(p.warning("area lights are not supported on instanced shapes (as in pbrt); it does not emit"));
+        let saved = r.gs.area_light.take();
+        let material = r.shape_material();
+        r.gs.area_light = saved;
+        return push(r, p, ops, shape, material);
+    }
+    let material = r.shape_material();
+    push(r, p, ops, shape, material)
+}
+
+fn push(r: &mut Reader, p: &Params, mut ops: Vec<TransformOp>, shape: ShapeDesc, material: usize) -> Result<(), SceneError> {
+    ops.extend(matrix_op(r.gs.ctm));
+    r.push_node(NodeDesc { transform: ops, kind: NodeKind::Shape { shape, material }, origin: p.origin() });
+    Ok(())
+}
+
+/// Refuses a current transform glint cannot apply: projective or singular.
+fn check_transform(r: &Reader, p: &Params) -> Result<(), SceneError> {
+    let m = r.gs.ctm;
+    if !is_affine(m) {
+        return Err(p.error("the current transform is projective; glint places shapes by affine transforms only"));
+    }
+    if Mat3::from_mat4(m).determinant().abs() <= f32::MIN_POSITIVE {
+        return Err(p.error("the current transform is singular (it flattens the shape)"));
+    }
+    Ok(())
+}
+
+/// Warns when a parameter that cuts a shape short differs from its default.
+fn partial_warning(r: &mut Reader, p: &Params, params: &[(&str, f32)]) -> Result<(), SceneError> {
+    for &(name, full) in params {
+        if p.float(name)?.is_some_and(|v| v != full) {
+            r.warnings.push(p.warning(format!("\"{name}\" (a partial shape) is not supported; the whole shape is drawn")));
+        }
+    }
+    Ok(())
+}
+
+/// `ObjectInstance "name"`: the definition's shapes, placed by the current transform.
+pub(super) fn instance(r: &mut Reader, src: &Rc<Source>, pos: Pos, name: &str) -> Result<(), SceneError> {
+    let children = r
+        .objects
+        .get(name)
+        .cloned()
+        .ok_or_else(|| src.invalid(pos, format!("ObjectInstance: no object is named \"{name}\" (ObjectBegin first)")))?;
+    if !is_affine(r.gs.ctm) || Mat3::from_mat4(r.gs.ctm).determinant().abs() <= f32::MIN_POSITIVE {
+        return Err(src.invalid(pos, "ObjectInstance: the current transform is projective or singular"));
+    }
+    if r.current_object.is_some() {
+        return Err(src.invalid(pos, "ObjectInstance cannot be used inside ObjectBegin"));
+    }
+    r.push_node(NodeDesc { transform: matrix_op(r.gs.ctm), kind: NodeKind::Group(children), origin: src.origin(pos) });
+    Ok(())
+}
