@@ -17,6 +17,7 @@ pub mod mitsuba;
 pub mod native;
 pub mod overrides;
 pub mod pbrt;
+pub mod ply_out;
 pub mod part_file;
 pub mod source;
 pub mod texture_io;

@@ -321,6 +321,7 @@ impl Reader {
             "Camera" => {
                 camera::camera(self, &ty, &p)?;
                 self.camera_from_world = Some(self.gs.ctm);
+                self.named_coordinate_systems.insert("camera".to_owned(), self.gs.ctm.inverse());
             }
             "Film" => camera::film(self, &ty, &p)?,
             "Sampler" => camera::sampler(self, &ty, &p)?,
