@@ -89,7 +89,12 @@ pub fn convert(input: &Path, output: &Path) -> Result<Converted, ConvertError> {
 }
 
 /// Writes `loaded` as `.glint` text to `output` after checking that it reads back.
-fn write_checked(input: &Path, output: &Path, dir: &Path, loaded: crate::detect::Loaded) -> Result<Converted, ConvertError> {
+fn write_checked(
+    input: &Path,
+    output: &Path,
+    dir: &Path,
+    loaded: crate::detect::Loaded,
+) -> Result<Converted, ConvertError> {
     let dir = dir.to_path_buf();
     let options = WriteOptions {
         base_dir: Some(dir.clone()),

@@ -16,9 +16,9 @@ pub mod mesh;
 pub mod mitsuba;
 pub mod native;
 pub mod overrides;
+pub mod part_file;
 pub mod pbrt;
 pub mod ply_out;
-pub mod part_file;
 pub mod source;
 pub mod texture_io;
 

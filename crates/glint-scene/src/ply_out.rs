@@ -63,6 +63,9 @@ mod tests {
         };
         let import = crate::mesh::parse_mesh(std::path::Path::new("m.ply"), ply_bytes(&mesh)).unwrap();
         let back = &import.meshes[0];
-        assert_eq!((&back.positions, &back.normals, &back.uvs, &back.indices), (&mesh.positions, &mesh.normals, &mesh.uvs, &mesh.indices));
+        assert_eq!(
+            (&back.positions, &back.normals, &back.uvs, &back.indices),
+            (&mesh.positions, &mesh.normals, &mesh.uvs, &mesh.indices)
+        );
     }
 }

@@ -116,7 +116,8 @@ fn attribute_blocks_restore_transform_and_material() {
 #[test]
 fn look_at_places_the_camera_and_pbrts_image_is_not_mirrored() {
     // A rotation (LookAt alone) needs the world mirrored; `Scale -1 1 1` does not.
-    let s = scene("LookAt 1 2 3  1 2 0  0 1 0\nCamera \"perspective\" \"float fov\" 30\nWorldBegin\nShape \"sphere\"\n");
+    let s =
+        scene("LookAt 1 2 3  1 2 0  0 1 0\nCamera \"perspective\" \"float fov\" 30\nWorldBegin\nShape \"sphere\"\n");
     close(s.camera.eye, Vec3::new(-1.0, 2.0, 3.0));
     close(s.camera.look.normalize(), Vec3::NEG_Z);
     close(s.camera.up.normalize(), Vec3::Y);
@@ -145,13 +146,15 @@ fn the_image_shows_what_pbrt_shows() {
         LightSource \"point\" \"point3 from\" [0 0 5] \"rgb I\" [25 25 25]\n\
         AttributeBegin\n Material \"diffuse\" \"rgb reflectance\" [1 0 0]\n Translate 1.5 0 0\n Shape \"sphere\" \"float radius\" 0.6\nAttributeEnd\n\
         AttributeBegin\n Material \"diffuse\" \"rgb reflectance\" [0 0 1]\n Translate -1.5 0 0\n Shape \"sphere\" \"float radius\" 0.6\nAttributeEnd\n";
-    let image = render_whitted(scene(&format!("LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 40\n{body}")));
+    let image =
+        render_whitted(scene(&format!("LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 40\n{body}")));
     let (left, right) = (image.get(7, 8), image.get(24, 8));
     assert!(left.x > 0.1 && left.z < 0.01, "left shows the red sphere at +x: {left}");
     assert!(right.z > 0.1 && right.x < 0.01, "right shows the blue sphere at −x: {right}");
     // With the customary `Scale -1 1 1`, pbrt shows +x on the right.
-    let image =
-        render_whitted(scene(&format!("Scale -1 1 1\nLookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 40\n{body}")));
+    let image = render_whitted(scene(&format!(
+        "Scale -1 1 1\nLookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 40\n{body}"
+    )));
     let (left, right) = (image.get(7, 8), image.get(24, 8));
     assert!(right.x > 0.1 && left.z > 0.1, "{left} {right}");
 }
@@ -195,9 +198,14 @@ fn meshes_read_positions_normals_uvs_and_bilinear_patches() {
 fn includes_are_found_next_to_the_including_file() {
     let dir = temp_dir("include");
     std::fs::create_dir_all(dir.join("geometry")).unwrap();
-    std::fs::write(dir.join("geometry/ball.pbrt"), "Translate 0 3 0\nShape \"sphere\"\nInclude \"more.pbrt\"\n").unwrap();
+    std::fs::write(dir.join("geometry/ball.pbrt"), "Translate 0 3 0\nShape \"sphere\"\nInclude \"more.pbrt\"\n")
+        .unwrap();
     std::fs::write(dir.join("geometry/more.pbrt"), "Shape \"disk\"\n").unwrap();
-    std::fs::write(dir.join("scene.pbrt"), format!("{UNMIRRORED}AttributeBegin\nInclude \"geometry/ball.pbrt\"\nAttributeEnd\nShape \"sphere\"\n")).unwrap();
+    std::fs::write(
+        dir.join("scene.pbrt"),
+        format!("{UNMIRRORED}AttributeBegin\nInclude \"geometry/ball.pbrt\"\nAttributeEnd\nShape \"sphere\"\n"),
+    )
+    .unwrap();
     let loaded = load_any(&dir.join("scene.pbrt")).unwrap();
     assert_eq!(loaded.format, SceneFormat::Pbrt);
     let c = centres(&loaded.scene);
@@ -256,7 +264,11 @@ fn area_lights_make_the_following_shapes_emit() {
     assert_eq!(s.materials[all[2].1].emission, Vec3::ZERO, "AttributeEnd ends the area light");
     let warm = s.materials[all[3].1].emission;
     assert!(warm.x > warm.z, "a 3000 K black body is warm: {warm}");
-    assert!(loaded.warnings.iter().any(|w| w.contains("scene.pbrt:12:") && w.contains("front only")), "{:?}", loaded.warnings);
+    assert!(
+        loaded.warnings.iter().any(|w| w.contains("scene.pbrt:12:") && w.contains("front only")),
+        "{:?}",
+        loaded.warnings
+    );
 }
 
 #[test]
@@ -366,7 +378,11 @@ fn bad_input_is_an_error_at_its_line() {
     assert_error("WorldBegin\nShape \"sphere\n", 2, "unterminated string");
     assert_error("WorldBegin\nTranslate 1 -nan 0\n", 2, "not a finite number");
     assert_error("WorldBegin\nTranslate 1 1e999 0\n", 2, "not a finite number");
-    assert_error("WorldBegin\n\nShape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"integer indices\" [0 1 3]\n", 3, "out of range");
+    assert_error(
+        "WorldBegin\n\nShape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"integer indices\" [0 1 3]\n",
+        3,
+        "out of range",
+    );
     assert_error("WorldBegin\nAttributeBegin\n", 2, "never closed");
     assert_error("WorldBegin\nAttributeEnd\n", 2, "no AttributeBegin");
     assert_error("WorldBegin\nNamedMaterial \"nope\"\n", 2, "no material is named");
@@ -433,4 +449,74 @@ fn a_cornell_box_renders_with_the_light_on_top_and_red_on_the_left() {
     assert!(left.x > 2.0 * left.y, "left wall is red: {left}");
     assert!(right.y > 2.0 * right.x, "right wall is green: {right}");
     assert!(middle.min_element() > 0.01, "indirect light reaches the back wall: {middle}");
+}
+
+/// Writes a `w`×`h` 8-bit PNG whose pixel (x, y) (row 0 at the top) is `f(x, y)`.
+fn write_png(path: &Path, w: u32, h: u32, f: impl Fn(u32, u32) -> [u8; 3]) {
+    image::RgbImage::from_fn(w, h, |x, y| image::Rgb(f(x, y))).save(path).unwrap();
+}
+
+#[test]
+fn image_textures_keep_their_rows_and_resolve_next_to_the_file() {
+    let dir = temp_dir("imagemap");
+    // Top row white, bottom row black: pbrt's t = 0 is the bottom row, as glint's v = 0.
+    write_png(&dir.join("rows.png"), 2, 2, |_, y| if y == 0 { [255; 3] } else { [0; 3] });
+    std::fs::write(
+        dir.join("scene.pbrt"),
+        format!(
+            "{UNMIRRORED}Texture \"rows\" \"spectrum\" \"imagemap\" \"string filename\" \"rows.png\"\n\
+             Material \"diffuse\" \"texture reflectance\" \"rows\"\nShape \"sphere\"\n"
+        ),
+    )
+    .unwrap();
+    let s = load_any(&dir.join("scene.pbrt")).unwrap().scene;
+    let TextureDesc::Image { width, height, texels, .. } = &s.textures[0] else { panic!() };
+    assert_eq!((*width, *height), (2, 2));
+    assert_eq!((texels[0], texels[3]), (Vec3::ONE, Vec3::ZERO));
+    let Some(BsdfDesc::Diffuse { reflectance }) = s.materials[shapes(&s)[0].1].bsdf else { panic!() };
+    assert_eq!(reflectance.texture, Some(0));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn an_equal_area_environment_map_is_resampled_to_equirectangular() {
+    let dir = temp_dir("envmap");
+    // The centre of pbrt-v4's octahedral map is the light's +z; its corners are −z.
+    write_png(&dir.join("sky.png"), 16, 16, |x, y| {
+        if (6..10).contains(&x) && (6..10).contains(&y) { [255; 3] } else { [0; 3] }
+    });
+    std::fs::write(
+        dir.join("scene.pbrt"),
+        format!("{UNMIRRORED}LightSource \"infinite\" \"string filename\" \"sky.png\" \"float scale\" 2\n"),
+    )
+    .unwrap();
+    let s = load_any(&dir.join("scene.pbrt")).unwrap().scene;
+    let LightDesc::Environment(env) = &s.lights[0] else { panic!() };
+    assert_eq!(env.radiance, Vec3::splat(2.0));
+    let TextureDesc::Image { width, height, texels, .. } = &s.textures[env.texture.unwrap()] else { panic!() };
+    assert_eq!((*width, *height), (32, 16));
+    // glint's equirectangular map has +z at its centre (u = atan2(x, −z)/2π = ½) and
+    // −z at its left edge.
+    let at = |i: u32, j: u32| texels[(j * width + i) as usize];
+    assert!(at(16, 8).min_element() > 0.5, "+z is bright: {}", at(16, 8));
+    assert!(at(0, 8).max_element() < 0.01, "−z is dark: {}", at(0, 8));
+    assert!(at(16, 0).max_element() < 0.01, "+y is dark: {}", at(16, 0));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn convert_writes_inline_meshes_as_ply_files() {
+    let dir = temp_dir("convert");
+    std::fs::write(dir.join("box.pbrt"), CORNELL).unwrap();
+    let out = dir.join("box.glint");
+    let converted = glint_scene::convert::convert(&dir.join("box.pbrt"), &out).unwrap();
+    assert_eq!(converted.format, SceneFormat::Pbrt);
+    let back = load_any(&out).unwrap().scene;
+    let original = scene(CORNELL);
+    assert_eq!(back.meshes.len(), original.meshes.len());
+    for (a, b) in back.meshes.iter().zip(&original.meshes) {
+        assert_eq!((&a.positions, &a.indices), (&b.positions, &b.indices));
+    }
+    assert!(dir.join("box.meshes/0.ply").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -104,7 +104,8 @@ pub(super) fn film(r: &mut Reader, ty: &str, p: &Params) -> Result<(), SceneErro
 pub(super) fn sampler(r: &mut Reader, ty: &str, p: &Params) -> Result<(), SceneError> {
     let kind = if ty == "independent" { SamplerKind::Independent } else { SamplerKind::Sobol };
     let n = p.int("pixelsamples")?.unwrap_or(16);
-    let n = u32::try_from(n).ok().filter(|&n| n > 0).ok_or_else(|| p.error(format!("pixelsamples {n} is not positive")))?;
+    let n =
+        u32::try_from(n).ok().filter(|&n| n > 0).ok_or_else(|| p.error(format!("pixelsamples {n} is not positive")))?;
     r.scene.settings.spp = Some(n);
     if let Some(seed) = p.int("seed")? {
         r.scene.settings.seed = seed as u32;

@@ -41,7 +41,9 @@ impl Cursor<'_> {
                 self.at += 1;
                 Ok(s.clone())
             }
-            Some(t) => Err(self.src.invalid(t.pos, format!("{} needs a quoted string here, found {}", self.name, t.describe()))),
+            Some(t) => Err(self
+                .src
+                .invalid(t.pos, format!("{} needs a quoted string here, found {}", self.name, t.describe()))),
             None => Err(self.error("needs a quoted string argument")),
         }
     }
@@ -60,7 +62,9 @@ impl Cursor<'_> {
                     self.at += 1;
                 }
                 Some(t) => {
-                    return Err(self.src.invalid(t.pos, format!("{} takes {n} numbers; found {}", self.name, t.describe())));
+                    return Err(self
+                        .src
+                        .invalid(t.pos, format!("{} takes {n} numbers; found {}", self.name, t.describe())));
                 }
                 None => return Err(self.error(format!("takes {n} numbers; the file ends first"))),
             }
@@ -68,7 +72,9 @@ impl Cursor<'_> {
         if bracketed {
             match self.tokens.get(self.at) {
                 Some(Token { kind: TokenKind::Close, .. }) => self.at += 1,
-                Some(t) => return Err(self.src.invalid(t.pos, format!("{} takes {n} numbers; expected ']'", self.name))),
+                Some(t) => {
+                    return Err(self.src.invalid(t.pos, format!("{} takes {n} numbers; expected ']'", self.name)));
+                }
                 None => return Err(self.error("the '[' is never closed")),
             }
         }
@@ -143,7 +149,9 @@ impl Reader {
                 let name = c.string()?;
                 match self.named_coordinate_systems.get(&name) {
                     Some(&m) => self.gs.ctm = m,
-                    None => self.warn(c, format!("no coordinate system is named \"{name}\"; the transform is unchanged")),
+                    None => {
+                        self.warn(c, format!("no coordinate system is named \"{name}\"; the transform is unchanged"))
+                    }
                 }
             }
             "ActiveTransform" => {
@@ -208,7 +216,12 @@ impl Reader {
                 if self.current_object.is_some() {
                     return Err(c.error("object definitions cannot nest; close the previous one with ObjectEnd"));
                 }
-                self.stack.push(Saved { state: self.gs.clone(), transform_only: false, pos: c.pos, src: Rc::clone(c.src) });
+                self.stack.push(Saved {
+                    state: self.gs.clone(),
+                    transform_only: false,
+                    pos: c.pos,
+                    src: Rc::clone(c.src),
+                });
                 self.current_object = Some((name, Vec::new()));
             }
             "ObjectEnd" => {
@@ -363,7 +376,9 @@ impl Reader {
     fn include(&mut self, c: &mut Cursor, depth: usize) -> Result<(), SceneError> {
         let file = c.string()?;
         if depth >= MAX_INCLUDE_DEPTH {
-            return Err(c.error(format!("includes nest more than {MAX_INCLUDE_DEPTH} deep (does a file include itself?)")));
+            return Err(
+                c.error(format!("includes nest more than {MAX_INCLUDE_DEPTH} deep (does a file include itself?)"))
+            );
         }
         let path = c.src.dir.join(&file);
         let text = crate::input::read_text(&path, crate::input::InputKind::Scene)

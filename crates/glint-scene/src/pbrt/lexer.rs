@@ -114,7 +114,11 @@ impl Lexer<'_> {
                     Some(c @ ('"' | '\\' | '\'')) => out.push(c),
                     other => {
                         let what = other.map_or("the end of the file".to_owned(), |c| format!("'{c}'"));
-                        return Err(src.error(SceneErrorKind::Syntax, self.pos, format!("unknown escape '\\' + {what}")));
+                        return Err(src.error(
+                            SceneErrorKind::Syntax,
+                            self.pos,
+                            format!("unknown escape '\\' + {what}"),
+                        ));
                     }
                 },
                 Some(c) => out.push(c),
@@ -135,7 +139,9 @@ impl Lexer<'_> {
         let value: f64 = text
             .parse()
             .ok()
-            .filter(|v: &f64| v.is_finite() && !text.contains(|c: char| c.is_ascii_alphabetic() && c != 'e' && c != 'E'))
+            .filter(|v: &f64| {
+                v.is_finite() && !text.contains(|c: char| c.is_ascii_alphabetic() && c != 'e' && c != 'E')
+            })
             .ok_or_else(|| src.error(SceneErrorKind::Syntax, pos, format!("'{text}' is not a finite number")))?;
         Ok(TokenKind::Number(value))
     }

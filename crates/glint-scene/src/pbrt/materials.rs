@@ -82,8 +82,12 @@ fn bsdf(r: &mut Reader, ty: &str, p: &Params) -> Result<(BsdfDesc, ColorParam), 
         }
         "thindielectric" => {
             let eta = eta(r, p)?;
-            let bsdf =
-                BsdfDesc::ThinDielectric { int_ior: eta, ext_ior: 1.0, reflectance: Vec3::ONE, transmittance: Vec3::ONE };
+            let bsdf = BsdfDesc::ThinDielectric {
+                int_ior: eta,
+                ext_ior: 1.0,
+                reflectance: Vec3::ONE,
+                transmittance: Vec3::ONE,
+            };
             (bsdf, grey(0.0))
         }
         "coateddiffuse" => {
@@ -91,7 +95,10 @@ fn bsdf(r: &mut Reader, ty: &str, p: &Params) -> Result<(BsdfDesc, ColorParam), 
             let eta = eta(r, p)?;
             let alpha = alpha(r, p)?;
             approximate_coat(r, p);
-            (BsdfDesc::Plastic { diffuse, int_ior: eta, ext_ior: 1.0, specular: Vec3::ONE, alpha, nonlinear: false }, diffuse)
+            (
+                BsdfDesc::Plastic { diffuse, int_ior: eta, ext_ior: 1.0, specular: Vec3::ONE, alpha, nonlinear: false },
+                diffuse,
+            )
         }
         "coatedconductor" => {
             r.warnings.push(p.warning("approximated by its conductor base without the dielectric coat"));
@@ -118,8 +125,12 @@ fn bsdf(r: &mut Reader, ty: &str, p: &Params) -> Result<(BsdfDesc, ColorParam), 
             r.warnings.push(p.warning(
                 "an interface (invisible) material is approximated by a thin sheet of index 1, which light passes",
             ));
-            let bsdf =
-                BsdfDesc::ThinDielectric { int_ior: 1.0, ext_ior: 1.0, reflectance: Vec3::ONE, transmittance: Vec3::ONE };
+            let bsdf = BsdfDesc::ThinDielectric {
+                int_ior: 1.0,
+                ext_ior: 1.0,
+                reflectance: Vec3::ONE,
+                transmittance: Vec3::ONE,
+            };
             (bsdf, grey(0.0))
         }
         other => {
@@ -182,7 +193,7 @@ fn eta(r: &mut Reader, p: &Params) -> Result<f32, SceneError> {
             rgb.element_sum() / 3.0
         }
     };
-    if !(eta > 0.0) {
+    if eta <= 0.0 || !eta.is_finite() {
         return Err(p.error(format!("eta {eta} must be positive")));
     }
     Ok(eta)

@@ -117,7 +117,7 @@ fn cylinder(p: &Params, name: String) -> Result<MeshDesc, SceneError> {
     let radius = p.float_or("radius", 1.0)?;
     let (z0, z1) = (p.float_or("zmin", -1.0)?, p.float_or("zmax", 1.0)?);
     let phimax = p.float_or("phimax", 360.0)?.clamp(0.0, 360.0);
-    if !(radius > 0.0) || z0 == z1 || phimax == 0.0 {
+    if radius <= 0.0 || z0 == z1 || phimax == 0.0 {
         return Err(p.error("needs a positive radius, zmin ≠ zmax and phimax > 0"));
     }
     let segments = ((CYLINDER_SEGMENTS as f32 * phimax / 360.0).ceil() as u32).max(1);
@@ -161,7 +161,8 @@ fn ply_mesh(r: &mut Reader, p: &Params) -> Result<MeshDesc, SceneError> {
     }
     .map_err(|e| p.error(e.to_string()))?;
     r.warnings.extend(import.warnings.iter().cloned());
-    let merged_path = if file.to_ascii_lowercase().ends_with(".gz") { String::new() } else { path.display().to_string() };
+    let merged_path =
+        if file.to_ascii_lowercase().ends_with(".gz") { String::new() } else { path.display().to_string() };
     Ok(crate::mesh::merged(&import, file, &merged_path))
 }
 

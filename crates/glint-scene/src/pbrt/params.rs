@@ -80,7 +80,13 @@ pub(super) struct Params {
 
 impl Params {
     /// Reads `"type name" value(s)` pairs from `tokens[*at..]` up to the next directive.
-    pub fn parse(tokens: &[Token], at: &mut usize, src: &Rc<Source>, pos: Pos, what: String) -> Result<Self, SceneError> {
+    pub fn parse(
+        tokens: &[Token],
+        at: &mut usize,
+        src: &Rc<Source>,
+        pos: Pos,
+        what: String,
+    ) -> Result<Self, SceneError> {
         let mut list: Vec<Param> = Vec::new();
         while let Some(Token { kind: TokenKind::Str(decl), pos: decl_pos }) = tokens.get(*at) {
             *at += 1;
@@ -298,7 +304,7 @@ impl Params {
 }
 
 /// Splits `"type name"` into its canonical type and the name.
-fn declaration<'a>(decl: &'a str, src: &Source, pos: Pos) -> Result<(&'static str, String), SceneError> {
+fn declaration(decl: &str, src: &Source, pos: Pos) -> Result<(&'static str, String), SceneError> {
     let mut words = decl.split_whitespace();
     let (Some(ty), Some(name), None) = (words.next(), words.next(), words.next()) else {
         return Err(src.invalid(pos, format!("\"{decl}\" is not a parameter declaration like \"float radius\"")));
@@ -342,9 +348,11 @@ fn values(tokens: &[Token], at: &mut usize, src: &Source, pos: Pos, name: &str) 
         if t.kind == TokenKind::Close {
             break;
         }
-        items.push((single(t).ok_or_else(|| {
-            src.invalid(t.pos, format!("parameter '{name}': {} cannot be a value", t.describe()))
-        })?, t.pos));
+        items.push((
+            single(t)
+                .ok_or_else(|| src.invalid(t.pos, format!("parameter '{name}': {} cannot be a value", t.describe())))?,
+            t.pos,
+        ));
     }
     merge(items, src, first.pos, name)
 }
@@ -391,7 +399,9 @@ fn check_kind(ty: &str, name: &str, values: &Values, src: &Source, pos: Pos) -> 
         _ => false,
     };
     if !ok {
-        return Err(src.invalid(pos, format!("parameter '{name}' is declared '{ty}' but its values are not of that type")));
+        return Err(
+            src.invalid(pos, format!("parameter '{name}' is declared '{ty}' but its values are not of that type"))
+        );
     }
     Ok(())
 }

@@ -81,7 +81,13 @@ pub(super) fn shape(r: &mut Reader, ty: &str, p: &Params) -> Result<(), SceneErr
     push(r, p, ops, shape, material)
 }
 
-fn push(r: &mut Reader, p: &Params, mut ops: Vec<TransformOp>, shape: ShapeDesc, material: usize) -> Result<(), SceneError> {
+fn push(
+    r: &mut Reader,
+    p: &Params,
+    mut ops: Vec<TransformOp>,
+    shape: ShapeDesc,
+    material: usize,
+) -> Result<(), SceneError> {
     ops.extend(matrix_op(r.gs.ctm));
     r.push_node(NodeDesc { transform: ops, kind: NodeKind::Shape { shape, material }, origin: p.origin() });
     Ok(())
@@ -103,7 +109,8 @@ fn check_transform(r: &Reader, p: &Params) -> Result<(), SceneError> {
 fn partial_warning(r: &mut Reader, p: &Params, params: &[(&str, f32)]) -> Result<(), SceneError> {
     for &(name, full) in params {
         if p.float(name)?.is_some_and(|v| v != full) {
-            r.warnings.push(p.warning(format!("\"{name}\" (a partial shape) is not supported; the whole shape is drawn")));
+            r.warnings
+                .push(p.warning(format!("\"{name}\" (a partial shape) is not supported; the whole shape is drawn")));
         }
     }
     Ok(())
@@ -111,11 +118,9 @@ fn partial_warning(r: &mut Reader, p: &Params, params: &[(&str, f32)]) -> Result
 
 /// `ObjectInstance "name"`: the definition's shapes, placed by the current transform.
 pub(super) fn instance(r: &mut Reader, src: &Rc<Source>, pos: Pos, name: &str) -> Result<(), SceneError> {
-    let children = r
-        .objects
-        .get(name)
-        .cloned()
-        .ok_or_else(|| src.invalid(pos, format!("ObjectInstance: no object is named \"{name}\" (ObjectBegin first)")))?;
+    let children = r.objects.get(name).cloned().ok_or_else(|| {
+        src.invalid(pos, format!("ObjectInstance: no object is named \"{name}\" (ObjectBegin first)"))
+    })?;
     if !is_affine(r.gs.ctm) || Mat3::from_mat4(r.gs.ctm).determinant().abs() <= f32::MIN_POSITIVE {
         return Err(src.invalid(pos, "ObjectInstance: the current transform is projective or singular"));
     }

@@ -45,9 +45,7 @@ impl ColorSpace {
         let rows = match self {
             Self::Srgb => return rgb,
             Self::Rec2020 => [[1.6605, -0.5876, -0.0728], [-0.1246, 1.1329, -0.0083], [-0.0182, -0.1006, 1.1187]],
-            Self::Aces2065 => {
-                [[2.5217, -1.1341, -0.3876], [-0.2765, 2.3726, -0.0961], [-0.0154, -0.1530, 1.1684]]
-            }
+            Self::Aces2065 => [[2.5217, -1.1341, -0.3876], [-0.2765, 2.3726, -0.0961], [-0.0154, -0.1530, 1.1684]],
             Self::DciP3 => [[1.2249, -0.2247, 0.0], [-0.0420, 1.0419, 0.0], [-0.0197, -0.0786, 1.0979]],
         };
         Mat3::from_cols_array_2d(&rows).transpose() * rgb
@@ -69,7 +67,7 @@ pub(super) fn rgb(value: &SpectrumValue, role: Role, space: ColorSpace) -> Resul
         SpectrumValue::Rgb(c) => space.to_srgb(*c),
         SpectrumValue::Constant(v) => Vec3::splat(*v),
         SpectrumValue::Blackbody(t) => {
-            if !(*t > 0.0) {
+            if *t <= 0.0 {
                 return Err(format!("a black body needs a positive temperature, not {t}"));
             }
             blackbody_rgb(*t)
@@ -225,7 +223,10 @@ mod tests {
             assert!((s.to_srgb(Vec3::ONE) - Vec3::ONE).abs().max_element() < 0.01);
         }
         assert!((ColorSpace::Aces2065.to_srgb(Vec3::ONE) - Vec3::ONE).abs().max_element() < 0.01);
-        assert_eq!(rgb(&SpectrumValue::Named("metal-Cu-k".into()), Role::Albedo, ColorSpace::Srgb).map(|v| v.x > 3.0), Ok(true));
+        assert_eq!(
+            rgb(&SpectrumValue::Named("metal-Cu-k".into()), Role::Albedo, ColorSpace::Srgb).map(|v| v.x > 3.0),
+            Ok(true)
+        );
         assert!(rgb(&SpectrumValue::Named("nope".into()), Role::Albedo, ColorSpace::Srgb).is_err());
     }
 }

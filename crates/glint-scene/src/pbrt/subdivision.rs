@@ -102,7 +102,12 @@ mod tests {
 
     #[test]
     fn a_tetrahedron_shrinks_towards_a_sphere() {
-        let positions = vec![Vec3::new(1.0, 1.0, 1.0), Vec3::new(1.0, -1.0, -1.0), Vec3::new(-1.0, 1.0, -1.0), Vec3::new(-1.0, -1.0, 1.0)];
+        let positions = vec![
+            Vec3::new(1.0, 1.0, 1.0),
+            Vec3::new(1.0, -1.0, -1.0),
+            Vec3::new(-1.0, 1.0, -1.0),
+            Vec3::new(-1.0, -1.0, 1.0),
+        ];
         let indices = vec![0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2];
         let mut mesh = MeshDesc { positions, indices, ..MeshDesc::default() };
         loop_subdivide(&mut mesh, 2);

@@ -171,4 +171,3 @@ fn checkerboard(r: &mut Reader, name: &str, float: bool, p: &Params) -> Result<T
     r.scene.textures.push(TextureDesc::Checker { name: name.to_owned(), even, odd, cells: scale });
     Ok(TextureRef::Index(r.scene.textures.len() - 1))
 }
-
