@@ -7,7 +7,7 @@
 
 use std::rc::Rc;
 
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat3, Mat4, Vec3, Vec4};
 
 use super::lexer::{Token, TokenKind, tokenize};
 use super::params::Params;
@@ -332,6 +332,9 @@ impl Reader {
         }
         match c.name {
             "Camera" => {
+                if Mat3::from_mat4(self.gs.ctm).determinant().abs() <= f32::MIN_POSITIVE || !is_affine(self.gs.ctm) {
+                    return Err(p.error("the camera transform is singular or projective"));
+                }
                 camera::camera(self, &ty, &p)?;
                 self.camera_from_world = Some(self.gs.ctm);
                 self.named_coordinate_systems.insert("camera".to_owned(), self.gs.ctm.inverse());

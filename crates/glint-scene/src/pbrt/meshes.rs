@@ -29,7 +29,14 @@ pub(super) fn mesh(r: &mut Reader, ty: &str, p: &Params) -> Result<Option<MeshDe
             let mut control = indexed(p, name, 3, "P")?;
             let levels = p.int("levels")?.unwrap_or(3);
             let levels = u32::try_from(levels).map_err(|_| p.error("levels must not be negative"))?;
-            subdivision::loop_subdivide(&mut control, levels.min(subdivision::MAX_LEVELS));
+            let affordable = subdivision::affordable_levels(control.indices.len() / 3, levels);
+            if affordable < levels {
+                r.warnings.push(p.warning(format!(
+                    "subdivided {affordable} times, not {levels}: more would exceed {} triangles",
+                    subdivision::MAX_TRIANGLES
+                )));
+            }
+            subdivision::loop_subdivide(&mut control, affordable);
             control
         }
         "cylinder" => cylinder(p, name)?,

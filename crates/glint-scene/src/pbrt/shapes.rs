@@ -10,7 +10,7 @@
 use std::rc::Rc;
 
 use glam::{Mat3, Vec3};
-use glint_core::desc::{NodeDesc, NodeKind, ShapeDesc, TransformOp};
+use glint_core::desc::{BsdfDesc, MaterialDesc, NodeDesc, NodeKind, ShapeDesc, TransformOp};
 
 use super::directives::is_affine;
 use super::meshes;
@@ -78,7 +78,23 @@ pub(super) fn shape(r: &mut Reader, ty: &str, p: &Params) -> Result<(), SceneErr
         return push(r, p, ops, shape, material);
     }
     let material = r.shape_material();
+    if matches!(shape, ShapeDesc::Sphere | ShapeDesc::Disk) && is_textured(&r.scene.materials[material]) {
+        r.warnings.push(p.warning(format!(
+            "glint's uv mapping of a {ty} differs from pbrt's, so its texture lands differently (use a mesh)"
+        )));
+    }
     push(r, p, ops, shape, material)
+}
+
+/// Whether any colour or roughness of the material comes from a texture.
+fn is_textured(m: &MaterialDesc) -> bool {
+    match m.bsdf {
+        Some(BsdfDesc::Diffuse { reflectance }) => reflectance.texture.is_some(),
+        Some(BsdfDesc::Conductor { specular, alpha, .. }) => specular.texture.is_some() || alpha.texture.is_some(),
+        Some(BsdfDesc::Dielectric { alpha, .. }) => alpha.texture.is_some(),
+        Some(BsdfDesc::Plastic { diffuse, alpha, .. }) => diffuse.texture.is_some() || alpha.texture.is_some(),
+        _ => m.texture.is_some(),
+    }
 }
 
 fn push(

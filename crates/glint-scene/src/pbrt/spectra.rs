@@ -45,7 +45,7 @@ impl ColorSpace {
         let rows = match self {
             Self::Srgb => return rgb,
             Self::Rec2020 => [[1.6605, -0.5876, -0.0728], [-0.1246, 1.1329, -0.0083], [-0.0182, -0.1006, 1.1187]],
-            Self::Aces2065 => [[2.5217, -1.1341, -0.3876], [-0.2765, 2.3726, -0.0961], [-0.0154, -0.1530, 1.1684]],
+            Self::Aces2065 => [[2.5217, -1.1341, -0.3876], [-0.2765, 1.3727, -0.0962], [-0.0154, -0.1530, 1.1684]],
             Self::DciP3 => [[1.2249, -0.2247, 0.0], [-0.0420, 1.0419, 0.0], [-0.0197, -0.0786, 1.0979]],
         };
         Mat3::from_cols_array_2d(&rows).transpose() * rgb
@@ -63,6 +63,14 @@ pub(super) enum Role {
 
 /// The RGB of `value`, or a message saying why it could not be read (an unknown name).
 pub(super) fn rgb(value: &SpectrumValue, role: Role, space: ColorSpace) -> Result<Vec3, String> {
+    let c = spectrum_rgb(value, role, space)?;
+    if !c.is_finite() {
+        return Err(format!("the spectrum {value:?} has no finite RGB value"));
+    }
+    Ok(c)
+}
+
+fn spectrum_rgb(value: &SpectrumValue, role: Role, space: ColorSpace) -> Result<Vec3, String> {
     Ok(match value {
         SpectrumValue::Rgb(c) => space.to_srgb(*c),
         SpectrumValue::Constant(v) => Vec3::splat(*v),

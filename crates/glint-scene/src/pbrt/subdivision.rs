@@ -8,8 +8,17 @@ use std::collections::HashMap;
 use glam::Vec3;
 use glint_core::desc::MeshDesc;
 
-/// The most levels applied (each multiplies the triangle count by four).
-pub(super) const MAX_LEVELS: u32 = 6;
+/// The most triangles subdivision may make (each level multiplies the count by four).
+pub(super) const MAX_TRIANGLES: usize = 1 << 24;
+
+/// The most levels, up to `levels`, that keep `triangles` under [`MAX_TRIANGLES`].
+pub(super) fn affordable_levels(triangles: usize, levels: u32) -> u32 {
+    let mut n = 0;
+    while n < levels && triangles.saturating_mul(4usize.saturating_pow(n + 1)) <= MAX_TRIANGLES {
+        n += 1;
+    }
+    n
+}
 
 /// Subdivides `mesh` (positions and indices) `levels` times and gives it smooth normals.
 pub(super) fn loop_subdivide(mesh: &mut MeshDesc, levels: u32) {
@@ -118,5 +127,12 @@ mod tests {
         assert!(hi < 3f32.sqrt() && hi / lo < 1.6, "{lo} {hi}");
         // Normals point outwards.
         assert!(mesh.positions.iter().zip(&mesh.normals).all(|(p, n)| p.dot(*n) > 0.0));
+    }
+
+    #[test]
+    fn levels_stop_before_the_triangle_budget() {
+        assert_eq!(affordable_levels(4, 3), 3);
+        assert_eq!(affordable_levels(MAX_TRIANGLES / 4, 9), 1);
+        assert_eq!(affordable_levels(MAX_TRIANGLES, 2), 0);
     }
 }
