@@ -520,3 +520,18 @@ fn convert_writes_inline_meshes_as_ply_files() {
     assert!(dir.join("box.meshes/0.ply").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn every_prefix_of_a_scene_is_an_answer_never_a_panic() {
+    // Cut anywhere (mid-token, mid-list, mid-block), the text reads as a scene or an
+    // error; an accepted scene also compiles.
+    let text = format!(
+        "{CORNELL}Texture \"t\" \"spectrum\" \"checkerboard\" \"rgb tex1\" [1 0 0]\nShape \"loopsubdiv\" \"point3 P\" [0 0 0 1 0 0 0 1 0] \"integer indices\" [0 1 2]\n"
+    );
+    for end in (0..=text.len()).filter(|&i| text.is_char_boundary(i)) {
+        if let Ok(loaded) = parse(&text[..end]) {
+            let compiled = glint_core::scene::compile(&loaded.scene);
+            assert!(compiled.is_ok(), "prefix of {end} bytes read but does not compile: {:?}", compiled.err());
+        }
+    }
+}
