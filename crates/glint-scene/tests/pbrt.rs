@@ -252,6 +252,20 @@ fn named_materials_map_to_their_bsdfs() {
 }
 
 #[test]
+fn pbrt_v3_materials_are_approximated_with_a_warning() {
+    let loaded = load(&format!(
+        "{UNMIRRORED}Material \"matte\" \"color Kd\" [0.1 0.2 0.3]\nShape \"sphere\"\n\
+         Material \"glass\" \"float index\" 1.4\nShape \"sphere\"\nMaterial \"mirror\"\nShape \"sphere\"\n"
+    ));
+    let s = &loaded.scene;
+    let bsdf = |i: usize| s.materials[shapes(s)[i].1].bsdf.unwrap();
+    assert!(matches!(bsdf(0), BsdfDesc::Diffuse { reflectance } if reflectance.value == Vec3::new(0.1, 0.2, 0.3)));
+    assert!(matches!(bsdf(1), BsdfDesc::Dielectric { int_ior, .. } if int_ior == 1.4));
+    assert!(matches!(bsdf(2), BsdfDesc::Conductor { eta, k, .. } if eta == Vec3::ZERO && k == Vec3::ONE));
+    assert_eq!(loaded.warnings.iter().filter(|w| w.contains("pbrt-v3 material")).count(), 3, "{:?}", loaded.warnings);
+}
+
+#[test]
 fn area_lights_make_the_following_shapes_emit() {
     let loaded = load(&format!(
         "{UNMIRRORED}AttributeBegin\n AreaLightSource \"diffuse\" \"rgb L\" [2 3 4] \"float scale\" 2\n Shape \"sphere\"\n Shape \"disk\"\nAttributeEnd\n\

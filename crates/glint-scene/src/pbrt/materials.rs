@@ -10,6 +10,7 @@
 //! | coatedconductor| Conductor of the base (warning)                             |
 //! | mix            | the first material (warning)                                |
 //! | interface      | a thin dielectric of index 1, which light passes (warning)  |
+//! | v3 matte, plastic, metal, mirror, glass | their v4 counterparts (warning) |
 //! | others         | Diffuse of their `reflectance` (warning)                    |
 //!
 //! Roughness: with `remaproughness` (pbrt's default) pbrt's `RoughnessToAlpha` is
@@ -133,6 +134,7 @@ fn bsdf(r: &mut Reader, ty: &str, p: &Params) -> Result<(BsdfDesc, ColorParam), 
             };
             (bsdf, grey(0.0))
         }
+        "matte" | "plastic" | "metal" | "mirror" | "glass" => v3_material(r, ty, p)?,
         other => {
             r.warnings.push(p.warning(format!("material '{other}' is approximated by a diffuse one")));
             let reflectance = color_param(r, p, "reflectance", Vec3::splat(0.5))?;
@@ -140,6 +142,38 @@ fn bsdf(r: &mut Reader, ty: &str, p: &Params) -> Result<(BsdfDesc, ColorParam), 
                 p.get(&param.name);
             }
             (BsdfDesc::Diffuse { reflectance }, reflectance)
+        }
+    })
+}
+
+/// pbrt-v3's materials, mapped onto the nearest pbrt-v4 ones with a warning (v3's
+/// roughness remapping differs from v4's square root, which is used).
+fn v3_material(r: &mut Reader, ty: &str, p: &Params) -> Result<(BsdfDesc, ColorParam), SceneError> {
+    r.warnings.push(p.warning(format!("pbrt-v3 material '{ty}' is approximated by its pbrt-v4 counterpart")));
+    let grey = |v: f32| ColorParam::constant(Vec3::splat(v));
+    Ok(match ty {
+        "matte" => {
+            let reflectance = color_param(r, p, "Kd", Vec3::splat(0.5))?;
+            (BsdfDesc::Diffuse { reflectance }, reflectance)
+        }
+        "plastic" => {
+            let diffuse = color_param(r, p, "Kd", Vec3::splat(0.25))?;
+            let specular = color_param(r, p, "Ks", Vec3::splat(0.25))?.value;
+            let alpha = alpha_named(r, p, "roughness", "roughness", "roughness")?;
+            (BsdfDesc::Plastic { diffuse, int_ior: 1.5, ext_ior: 1.0, specular, alpha, nonlinear: false }, diffuse)
+        }
+        "metal" => conductor(r, p)?,
+        "mirror" => {
+            let specular = color_param(r, p, "Kr", Vec3::splat(0.9))?;
+            let alpha = ScalarParam::constant(0.0);
+            (BsdfDesc::Conductor { eta: Vec3::ZERO, k: Vec3::ONE, specular, alpha }, grey(0.8))
+        }
+        _ => {
+            let eta = p.float_or("index", 1.5)?;
+            let reflectance = color_param(r, p, "Kr", Vec3::ONE)?.value;
+            let transmittance = color_param(r, p, "Kt", Vec3::ONE)?.value;
+            let alpha = ScalarParam::constant(0.0);
+            (BsdfDesc::Dielectric { int_ior: eta, ext_ior: 1.0, reflectance, transmittance, alpha }, grey(0.0))
         }
     })
 }
