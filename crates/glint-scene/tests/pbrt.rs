@@ -286,6 +286,19 @@ fn area_lights_make_the_following_shapes_emit() {
 }
 
 #[test]
+fn blackbodies_have_unit_luminance_and_take_pbrt_v3s_scale() {
+    let s = scene(&format!(
+        "{UNMIRRORED}LightSource \"point\" \"blackbody I\" 2700\nLightSource \"point\" \"blackbody I\" [2700 3]\n"
+    ));
+    let (LightDesc::Point { color: a, .. }, LightDesc::Point { color: b, .. }) = (&s.lights[0], &s.lights[1]) else {
+        panic!()
+    };
+    let luminance = a.dot(Vec3::new(0.2126, 0.7152, 0.0722));
+    assert!((luminance - 1.0).abs() < 0.05 && a.x > a.z, "{a}");
+    close(*b, 3.0 * *a);
+}
+
+#[test]
 fn light_sources_are_placed_by_the_current_transform() {
     let s = scene(&format!(
         "{UNMIRRORED}Translate 0 1 0\nLightSource \"point\" \"point3 from\" [1 2 3] \"rgb I\" [1 2 3] \"float scale\" 2\n\

@@ -62,8 +62,8 @@ pub(super) enum SpectrumValue {
     Named(String),
     /// `(wavelength, value)` pairs.
     Samples(Vec<(f32, f32)>),
-    /// A black body at this temperature in kelvin.
-    Blackbody(f32),
+    /// A black body at this temperature in kelvin, times a scale (pbrt-v3's second value).
+    Blackbody(f32, f32),
     /// A constant spectrum (a plain `float` where a spectrum is allowed).
     Constant(f32),
 }
@@ -275,7 +275,12 @@ impl Params {
                 SpectrumValue::Rgb(Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32))
             }
             "float" => SpectrumValue::Constant(nums(1)?[0] as f32),
-            "blackbody" => SpectrumValue::Blackbody(nums(1)?[0] as f32),
+            "blackbody" => match nums(0)? {
+                [t] => SpectrumValue::Blackbody(*t as f32, 1.0),
+                // pbrt-v3 wrote a scale after the temperature.
+                [t, scale] => SpectrumValue::Blackbody(*t as f32, *scale as f32),
+                v => return Err(self.param_error(p, format!("takes a temperature, not {} numbers", v.len()))),
+            },
             "spectrum" => match &p.values {
                 Values::Strings(v) if v.len() == 1 => SpectrumValue::Named(v[0].clone()),
                 Values::Numbers(v) if v.len() >= 2 && v.len() % 2 == 0 => {

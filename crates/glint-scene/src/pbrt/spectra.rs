@@ -74,11 +74,11 @@ fn spectrum_rgb(value: &SpectrumValue, role: Role, space: ColorSpace) -> Result<
     Ok(match value {
         SpectrumValue::Rgb(c) => space.to_srgb(*c),
         SpectrumValue::Constant(v) => Vec3::splat(*v),
-        SpectrumValue::Blackbody(t) => {
+        SpectrumValue::Blackbody(t, scale) => {
             if *t <= 0.0 {
                 return Err(format!("a black body needs a positive temperature, not {t}"));
             }
-            blackbody_rgb(*t)
+            blackbody_rgb(*t) * *scale
         }
         SpectrumValue::Samples(s) => sampled_rgb(s, role)?,
         SpectrumValue::Named(name) => named_rgb(name, role)?,
