@@ -492,7 +492,9 @@ fn image_textures_keep_their_rows_and_resolve_next_to_the_file() {
         dir.join("scene.pbrt"),
         format!(
             "{UNMIRRORED}Texture \"rows\" \"spectrum\" \"imagemap\" \"string filename\" \"rows.png\"\n\
-             Material \"diffuse\" \"texture reflectance\" \"rows\"\nShape \"sphere\"\n"
+             Texture \"dim\" \"spectrum\" \"scale\" \"texture tex\" \"rows\" \"float scale\" 0.5\n\
+             Material \"diffuse\" \"texture reflectance\" \"rows\"\nShape \"sphere\"\n\
+             Material \"diffuse\" \"texture reflectance\" \"dim\"\nShape \"sphere\"\n"
         ),
     )
     .unwrap();
@@ -501,7 +503,11 @@ fn image_textures_keep_their_rows_and_resolve_next_to_the_file() {
     assert_eq!((*width, *height), (2, 2));
     assert_eq!((texels[0], texels[3]), (Vec3::ONE, Vec3::ZERO));
     let Some(BsdfDesc::Diffuse { reflectance }) = s.materials[shapes(&s)[0].1].bsdf else { panic!() };
-    assert_eq!(reflectance.texture, Some(0));
+    assert_eq!((reflectance.value, reflectance.texture), (Vec3::ONE, Some(0)));
+    // A `scale` texture is the same image with the factor as the parameter's value.
+    let Some(BsdfDesc::Diffuse { reflectance }) = s.materials[shapes(&s)[1].1].bsdf else { panic!() };
+    assert_eq!((reflectance.value, reflectance.texture), (Vec3::splat(0.5), Some(0)));
+    assert_eq!(s.textures.len(), 1);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -149,10 +149,11 @@ struct Saved {
     src: Rc<Source>,
 }
 
-/// A texture by name: an image or checkerboard in the scene's list, or a constant.
+/// A texture by name: an image or checkerboard in the scene's list times a factor
+/// (pbrt's `scale` texture), or a constant.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum TextureRef {
-    Index(usize),
+    Scaled(usize, Vec3),
     Constant(Vec3),
 }
 

@@ -1,4 +1,4 @@
-//! `Texture` (imagemap, checkerboard, constant; scale and mix approximated) and the
+//! `Texture` (imagemap, checkerboard, constant, scale; mix approximated) and the
 //! colour and scalar parameters that may name one (`"texture reflectance" "wood"`).
 //!
 //! Image orientation: pbrt-v4 looks an image up with t flipped, so t = 0 is the bottom
@@ -19,7 +19,7 @@ use crate::texture_io::load_texture_hdr;
 pub(super) fn color_param(r: &mut Reader, p: &Params, name: &str, default: Vec3) -> Result<ColorParam, SceneError> {
     if let Some(tex) = p.texture(name) {
         return match lookup(r, p, false, tex)? {
-            TextureRef::Index(i) => Ok(ColorParam { value: Vec3::ONE, texture: Some(i) }),
+            TextureRef::Scaled(i, factor) => Ok(ColorParam { value: factor, texture: Some(i) }),
             TextureRef::Constant(c) => Ok(ColorParam::constant(c)),
         };
     }
@@ -35,7 +35,7 @@ pub(super) fn color_param(r: &mut Reader, p: &Params, name: &str, default: Vec3)
 pub(super) fn scalar_param(r: &mut Reader, p: &Params, name: &str, default: f32) -> Result<ScalarParam, SceneError> {
     if let Some(tex) = p.texture(name) {
         return match lookup(r, p, true, tex)? {
-            TextureRef::Index(i) => Ok(ScalarParam { value: 1.0, texture: Some(i) }),
+            TextureRef::Scaled(i, factor) => Ok(ScalarParam { value: factor.x, texture: Some(i) }),
             TextureRef::Constant(c) => Ok(ScalarParam::constant(c.x)),
         };
     }
@@ -61,11 +61,12 @@ pub(super) fn texture(r: &mut Reader, name: &str, kind: &str, class: &str, p: &P
         other => return Err(p.error(format!("texture kind '{other}' is neither \"float\" nor \"spectrum\""))),
     };
     let made = match class {
-        "imagemap" => TextureRef::Index(image(r, name, p)?),
+        "imagemap" => TextureRef::Scaled(image(r, name, p)?, Vec3::ONE),
         "checkerboard" => checkerboard(r, name, float, p)?,
         "constant" => TextureRef::Constant(constant(r, p, float, "value", 1.0)?),
-        "scale" | "mix" | "directionmix" => {
-            let first = if class == "scale" { "tex" } else { "tex1" };
+        "scale" => scale(r, p, float)?,
+        "mix" | "directionmix" => {
+            let first = "tex1";
             r.warnings.push(p.warning(format!("approximated by its \"{first}\" alone")));
             for param in &p.list {
                 if param.name != first {
@@ -87,6 +88,26 @@ pub(super) fn texture(r: &mut Reader, name: &str, kind: &str, class: &str, p: &P
     };
     r.textures.insert((float, name.to_owned()), made);
     Ok(())
+}
+
+/// pbrt's `scale` texture, `tex · scale`: exact when `scale` is a number (glint's
+/// parameters are a value times a texture); a textured `scale` is dropped with a
+/// warning.
+fn scale(r: &mut Reader, p: &Params, float: bool) -> Result<TextureRef, SceneError> {
+    let base = match p.texture("tex") {
+        Some(t) => lookup(r, p, float, t)?,
+        None => TextureRef::Constant(constant(r, p, float, "tex", 1.0)?),
+    };
+    let factor = if p.texture("scale").is_some() {
+        r.warnings.push(p.warning("a textured \"scale\" is not supported; the texture is used unscaled"));
+        Vec3::ONE
+    } else {
+        constant(r, p, float, "scale", 1.0)?
+    };
+    Ok(match base {
+        TextureRef::Scaled(i, f) => TextureRef::Scaled(i, f * factor),
+        TextureRef::Constant(c) => TextureRef::Constant(c * factor),
+    })
 }
 
 /// A constant texture value (a float becomes a grey).
@@ -169,5 +190,5 @@ fn checkerboard(r: &mut Reader, name: &str, float: bool, p: &Params) -> Result<T
     let even = color("tex1", 1.0)?;
     let odd = color("tex2", 0.0)?;
     r.scene.textures.push(TextureDesc::Checker { name: name.to_owned(), even, odd, cells: scale });
-    Ok(TextureRef::Index(r.scene.textures.len() - 1))
+    Ok(TextureRef::Scaled(r.scene.textures.len() - 1, Vec3::ONE))
 }
