@@ -299,6 +299,20 @@ fn blackbodies_have_unit_luminance_and_take_pbrt_v3s_scale() {
 }
 
 #[test]
+fn area_light_power_sets_each_shapes_radiance() {
+    // A 2×2 quad emitting 8π W from one side: L = Φ / (π · A) = 2; a disk of radius 1
+    // emitting π W from both sides: L = π / (π · π · 2).
+    let s = scene(&format!(
+        "{UNMIRRORED}AttributeBegin\nAreaLightSource \"diffuse\" \"float power\" 25.132741\n\
+         Shape \"bilinearmesh\" \"point3 P\" [0 0 0 2 0 0 0 2 0 2 2 0]\nAttributeEnd\n\
+         AreaLightSource \"diffuse\" \"float power\" 3.1415927 \"bool twosided\" true\nShape \"disk\"\n"
+    ));
+    let all = shapes(&s);
+    close(s.materials[all[0].1].emission, Vec3::splat(2.0));
+    close(s.materials[all[1].1].emission, Vec3::splat(1.0 / (2.0 * std::f32::consts::PI)));
+}
+
+#[test]
 fn light_sources_are_placed_by_the_current_transform() {
     let s = scene(&format!(
         "{UNMIRRORED}Translate 0 1 0\nLightSource \"point\" \"point3 from\" [1 2 3] \"rgb I\" [1 2 3] \"float scale\" 2\n\

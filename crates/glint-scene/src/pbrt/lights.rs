@@ -263,17 +263,19 @@ pub(super) fn area_light(r: &mut Reader, ty: &str, p: &Params) -> Result<(), Sce
         return Ok(());
     }
     let radiance = emitted(r, p, "L")?;
-    if p.bool_or("twosided", false)? {
+    let two_sided = p.bool_or("twosided", false)?;
+    if two_sided {
         r.warnings.push(p.warning("glint's area lights emit from the front only; the back stays dark"));
     }
-    for unsupported in ["filename", "power"] {
+    let power = p.float("power")?.filter(|&phi| phi > 0.0);
+    for unsupported in ["filename"] {
         if p.has(unsupported) {
             p.get(unsupported);
             r.warnings.push(p.warning(format!("\"{unsupported}\" is not supported and is ignored")));
         }
     }
     r.area_light_count += 1;
-    r.gs.area_light = Some(AreaLight { radiance, id: r.area_light_count });
+    r.gs.area_light = Some(AreaLight { radiance, power, two_sided, id: r.area_light_count });
     Ok(())
 }
 

@@ -111,6 +111,10 @@ fn read(text: &str, src: Source) -> Result<Loaded, SceneError> {
 #[derive(Clone, Debug, PartialEq)]
 struct AreaLight {
     radiance: Vec3,
+    /// pbrt's `power` (radiant flux) when given: each shape's radiance is then chosen so
+    /// that it emits this much, `L = power / (π · area · sides)`.
+    power: Option<f32>,
+    two_sided: bool,
     /// Numbers the `AreaLightSource` directives, to share emissive materials.
     id: usize,
 }

@@ -7,15 +7,16 @@
 //! mesh inside out (winding and normals) and mirrors a disk onto itself; on a sphere
 //! it cannot be expressed and is warned about when it matters (an area light).
 
+use std::f32::consts::PI;
 use std::rc::Rc;
 
 use glam::{Mat3, Vec3};
-use glint_core::desc::{BsdfDesc, MaterialDesc, NodeDesc, NodeKind, ShapeDesc, TransformOp};
+use glint_core::desc::{BsdfDesc, MaterialDesc, NodeDesc, NodeKind, ShapeDesc, TransformOp, matrix_of};
 
 use super::directives::is_affine;
 use super::meshes;
 use super::params::Params;
-use super::{Reader, matrix_op};
+use super::{AreaLight, Reader, matrix_op};
 use crate::error::SceneError;
 use crate::source::{Pos, Source};
 
@@ -77,13 +78,54 @@ pub(super) fn shape(r: &mut Reader, ty: &str, p: &Params) -> Result<(), SceneErr
         r.gs.area_light = saved;
         return push(r, p, ops, shape, material);
     }
-    let material = r.shape_material();
+    let material = material_for(r, p, shape, &ops);
     if matches!(shape, ShapeDesc::Sphere | ShapeDesc::Disk) && is_textured(&r.scene.materials[material]) {
         r.warnings.push(p.warning(format!(
             "glint's uv mapping of a {ty} differs from pbrt's, so its texture lands differently (use a mesh)"
         )));
     }
     push(r, p, ops, shape, material)
+}
+
+/// The shape's material; under an area light given by `power`, an emitting material
+/// of its own whose radiance makes this shape emit that power.
+fn material_for(r: &mut Reader, p: &Params, shape: ShapeDesc, ops: &[TransformOp]) -> usize {
+    let Some(light) = r.gs.area_light.clone().filter(|l| l.power.is_some()) else { return r.shape_material() };
+    let area = world_area(r, shape, ops);
+    let sides = if light.two_sided { 2.0 } else { 1.0 };
+    let phi = light.power.unwrap_or(0.0);
+    if !(area.is_finite() && area > 0.0) {
+        r.warnings.push(p.warning("the shape has no area, so \"power\" cannot set its radiance"));
+        return r.shape_material();
+    }
+    r.area_light_count += 1;
+    let radiance = light.radiance * phi / (PI * area * sides);
+    r.gs.area_light = Some(AreaLight { radiance, id: r.area_light_count, ..light.clone() });
+    let material = r.shape_material();
+    r.gs.area_light = Some(light);
+    material
+}
+
+/// The shape's surface area in the world (an ellipsoid's is approximated by the sphere
+/// of the same volume).
+fn world_area(r: &Reader, shape: ShapeDesc, ops: &[TransformOp]) -> f32 {
+    let m = r.gs.ctm * matrix_of(ops);
+    match shape {
+        ShapeDesc::Sphere => 4.0 * PI * Mat3::from_mat4(m).determinant().abs().powf(2.0 / 3.0),
+        ShapeDesc::Disk => PI * m.transform_vector3(Vec3::X).cross(m.transform_vector3(Vec3::Z)).length(),
+        ShapeDesc::Mesh { index } => {
+            let mesh = &r.scene.meshes[index];
+            let world: Vec<Vec3> = mesh.positions.iter().map(|&v| m.transform_point3(v)).collect();
+            mesh.indices
+                .chunks_exact(3)
+                .map(|t| {
+                    let [a, b, c] = [t[0], t[1], t[2]].map(|i| world[i as usize]);
+                    0.5 * (b - a).cross(c - a).length()
+                })
+                .sum()
+        }
+        _ => 0.0,
+    }
 }
 
 /// Whether any colour or roughness of the material comes from a texture.
