@@ -582,3 +582,17 @@ fn every_prefix_of_a_scene_is_an_answer_never_a_panic() {
         }
     }
 }
+
+#[test]
+fn named_coordinate_systems_and_the_camera_space() {
+    // The camera sits at (0, 0, −5) looking along +z: 2 in front of it is (0, 0, −3).
+    let s = scene(&format!(
+        "{UNMIRRORED}Translate 4 0 0\nCoordinateSystem \"shifted\"\nIdentity\n\
+         AttributeBegin\nCoordSysTransform \"camera\"\nTranslate 0 0 2\nShape \"sphere\"\nAttributeEnd\n\
+         AttributeBegin\nCoordSysTransform \"shifted\"\nShape \"sphere\"\nAttributeEnd\nShape \"sphere\"\n"
+    ));
+    let c = centres(&s);
+    close(c[0], Vec3::new(0.0, 0.0, -3.0));
+    close(c[1], Vec3::new(4.0, 0.0, 0.0));
+    close(c[2], Vec3::ZERO);
+}
