@@ -10,7 +10,7 @@ seconds="${1:?usage: fuzz/run.sh SECONDS [TARGET...]}"
 shift
 fuzz_dir="$(cd "$(dirname "$0")" && pwd)"
 cd "$fuzz_dir"
-all=(native course_xml course_json challenge_yaml mitsuba_xml obj ply gltf image render_scene)
+all=(native course_xml course_json challenge_yaml mitsuba_xml pbrt obj ply gltf image render_scene)
 [ $# -gt 0 ] && targets=("$@") || targets=("${all[@]}")
 target_dir="${FUZZ_TARGET_DIR:-$fuzz_dir/target}"
 nice_level="${FUZZ_NICE:-10}"

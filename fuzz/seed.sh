@@ -31,6 +31,7 @@ seed course_xml 262144 xml
 seed course_json 262144 json
 seed challenge_yaml 262144 yml yaml
 seed mitsuba_xml 262144 xml
+seed pbrt 262144 pbrt
 seed obj 32768 obj
 seed ply 262144 ply
 seed gltf 262144 gltf glb

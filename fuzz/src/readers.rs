@@ -27,6 +27,7 @@ pub const TARGETS: &[(&str, Target)] = &[
     ("course_json", course_json),
     ("challenge_yaml", challenge_yaml),
     ("mitsuba_xml", mitsuba_xml),
+    ("pbrt", pbrt),
     ("obj", obj),
     ("ply", ply),
     ("gltf", gltf),
@@ -64,6 +65,14 @@ pub fn challenge_yaml(data: &[u8]) {
 pub fn mitsuba_xml(data: &[u8]) {
     with_text(data, |text| {
         let loaded = glint_scene::mitsuba::parse_mitsuba(text, "fuzz.xml", Path::new(NOWHERE));
+        compile_if_read(loaded.map(|l| l.scene));
+    });
+}
+
+/// The pbrt-v4 reader.
+pub fn pbrt(data: &[u8]) {
+    with_text(data, |text| {
+        let loaded = glint_scene::pbrt::parse_pbrt(text, "fuzz.pbrt", Path::new(NOWHERE));
         compile_if_read(loaded.map(|l| l.scene));
     });
 }

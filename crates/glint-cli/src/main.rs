@@ -176,7 +176,7 @@ struct BenchArgs {
 
 #[derive(clap::Args)]
 struct ConvertArgs {
-    /// Scene file to convert: .glint, course XML/JSON or Ray Tracer Challenge YAML, recognised by content.
+    /// Scene file to convert: .glint, course XML/JSON, Ray Tracer Challenge YAML, Mitsuba 3 XML or pbrt-v4 (.pbrt), recognised by content.
     input: PathBuf,
     /// The .glint file to write; image textures are referenced relative to its folder.
     #[arg(short, long)]
@@ -188,7 +188,7 @@ struct ConvertArgs {
 
 #[derive(clap::Args)]
 struct RenderArgs {
-    /// Scene file to render: .glint, course XML/JSON or Ray Tracer Challenge YAML, recognised by content. Without one, the built-in default scene is rendered.
+    /// Scene file to render: .glint, course XML/JSON, Ray Tracer Challenge YAML, Mitsuba 3 XML or pbrt-v4 (.pbrt), recognised by content. Without one, the built-in default scene is rendered.
     scene: Option<PathBuf>,
     /// Output image; the format follows the extension (.png, .exr, .ppm) unless --format is given.
     #[arg(short, long, default_value = "glint.png")]

@@ -86,6 +86,7 @@ pub fn load(py: Python<'_>, path: PathBuf, frame: f64) -> PyResult<Scene> {
         glint_scene::SceneFormat::CourseJson => "course-json",
         glint_scene::SceneFormat::ChallengeYaml => "challenge-yaml",
         glint_scene::SceneFormat::Mitsuba => "mitsuba",
+        glint_scene::SceneFormat::Pbrt => "pbrt",
         glint_scene::SceneFormat::Mesh => "mesh",
     };
     Ok(Scene { desc: loaded.scene, format, warnings: loaded.warnings })

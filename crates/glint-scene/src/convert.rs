@@ -67,14 +67,35 @@ pub struct Converted {
 ///
 /// # Errors
 ///
-/// A [`ConvertError`]; on every error nothing is written.
+/// A [`ConvertError`]; on every error nothing is left written (mesh files saved for
+/// the scene are removed again).
 pub fn convert(input: &Path, output: &Path) -> Result<Converted, ConvertError> {
     let is_glint = output.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("glint"));
     if !is_glint {
         return Err(ConvertError::NotGlint { suggested: output.with_extension("glint") });
     }
-    let loaded = load_any(input)?;
+    let mut loaded = load_any(input)?;
     let dir = output.parent().map(Path::to_path_buf).unwrap_or_default();
+    let saved_meshes = save_inline_meshes(&mut loaded.scene, output)?;
+    let result = write_checked(input, output, &dir, loaded);
+    if result.is_err() {
+        for file in &saved_meshes {
+            let _ = std::fs::remove_file(file);
+        }
+        // Only when empty: a folder that held other files stays.
+        let _ = std::fs::remove_dir(output.with_extension("meshes"));
+    }
+    result
+}
+
+/// Writes `loaded` as `.glint` text to `output` after checking that it reads back.
+fn write_checked(
+    input: &Path,
+    output: &Path,
+    dir: &Path,
+    loaded: crate::detect::Loaded,
+) -> Result<Converted, ConvertError> {
+    let dir = dir.to_path_buf();
     let options = WriteOptions {
         base_dir: Some(dir.clone()),
         comment: Some(format!("Converted by `glint convert` from {}.", input.display())),
@@ -92,4 +113,29 @@ pub fn convert(input: &Path, output: &Path) -> Result<Converted, ConvertError> {
     let mut warnings = loaded.warnings;
     warnings.extend(written.warnings);
     Ok(Converted { format: loaded.format, warnings })
+}
+
+/// Saves each mesh that was built in the scene rather than read from a file (pbrt's
+/// inline `trianglemesh`, a tessellated cylinder) as a PLY file beside `output`
+/// (`OUT.meshes/N.ply`), so the `.glint` file can name it; returns the files written.
+fn save_inline_meshes(scene: &mut glint_core::desc::SceneDesc, output: &Path) -> Result<Vec<PathBuf>, ConvertError> {
+    let mut written = Vec::new();
+    if scene.meshes.iter().all(|m| !m.path.is_empty()) {
+        return Ok(written);
+    }
+    let folder = output.with_extension("meshes");
+    let io = |source| ConvertError::Io { path: folder.clone(), source };
+    std::fs::create_dir_all(&folder).map_err(io)?;
+    for (index, mesh) in scene.meshes.iter_mut().enumerate().filter(|(_, m)| m.path.is_empty()) {
+        let file = folder.join(format!("{index}.ply"));
+        if let Err(source) = std::fs::write(&file, crate::ply_out::ply_bytes(mesh)) {
+            for f in &written {
+                let _ = std::fs::remove_file(f);
+            }
+            return Err(ConvertError::Io { path: file, source });
+        }
+        mesh.path = file.display().to_string();
+        written.push(file);
+    }
+    Ok(written)
 }

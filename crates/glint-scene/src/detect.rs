@@ -21,6 +21,8 @@ pub enum SceneFormat {
     ChallengeYaml,
     /// Mitsuba 3 XML (`<scene version="…">`).
     Mitsuba,
+    /// pbrt-v4 scene files (`.pbrt`).
+    Pbrt,
     /// A triangle-mesh file (OBJ, PLY, glTF) shown by a camera fitted to it and two lights.
     Mesh,
 }
@@ -45,6 +47,9 @@ pub fn detect(text: &str, path: &Path) -> SceneFormat {
         .map(str::trim)
         .find(|l| !l.is_empty() && !l.starts_with('#') && !l.starts_with("//"))
         .unwrap_or("");
+    if path_ext(path) == "pbrt" || crate::pbrt::is_pbrt(body) {
+        return SceneFormat::Pbrt;
+    }
     if first_line.starts_with('<') {
         return if crate::mitsuba::is_mitsuba(body) { SceneFormat::Mitsuba } else { SceneFormat::CourseXml };
     }
@@ -101,6 +106,10 @@ pub fn load_any_at(path: &Path, frame: f64) -> Result<Loaded, SceneError> {
             let loaded = crate::mitsuba::load_text(path, &text)?;
             (loaded.scene, loaded.warnings)
         }
+        SceneFormat::Pbrt => {
+            let loaded = crate::pbrt::load_text(path, &text)?;
+            (loaded.scene, loaded.warnings)
+        }
         SceneFormat::CourseXml | SceneFormat::CourseJson => {
             let loaded = crate::course::load_text(path, &text, format, crate::course::CourseOptions::default())?;
             (loaded.scene, loaded.warnings)
@@ -133,5 +142,8 @@ mod tests {
         let mitsuba = "<?xml version=\"1.0\"?>\n<!-- c -->\n<scene version=\"3.0.0\">";
         assert_eq!(detect(mitsuba, p), SceneFormat::Mitsuba);
         assert_eq!(detect("<scenefile>", Path::new("x.xml")), SceneFormat::CourseXml);
+        assert_eq!(detect("# pbrt\nLookAt 0 0 5  0 0 0  0 1 0\n", p), SceneFormat::Pbrt);
+        assert_eq!(detect("Shape \"sphere\"", Path::new("x.pbrt")), SceneFormat::Pbrt);
+        assert_eq!(detect("camera { eye [0 0 5] }", Path::new("x.glint")), SceneFormat::Native);
     }
 }

@@ -1,7 +1,7 @@
 //! glint-scene: scene files in and images out, for the glint renderer.
 //!
 //! Every importer produces a [`glint_core::desc::SceneDesc`]; this crate owns the files
-//! (the native `.glint` format, the CS123/CS1230 course formats, Mitsuba 3 XML and texture images) so that glint-core never touches I/O.
+//! (the native `.glint` format, the CS123/CS1230 course formats, Mitsuba 3 XML, pbrt-v4 and texture images) so that glint-core never touches I/O.
 //! Every file is read through [`input`], which bounds its size.
 
 pub mod atomic_file;
@@ -17,6 +17,8 @@ pub mod mitsuba;
 pub mod native;
 pub mod overrides;
 pub mod part_file;
+pub mod pbrt;
+pub mod ply_out;
 pub mod source;
 pub mod texture_io;
 

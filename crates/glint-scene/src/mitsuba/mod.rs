@@ -17,7 +17,7 @@ mod bsdfs;
 mod emitters;
 mod sensor;
 mod shapes;
-mod tables;
+pub(crate) mod tables;
 mod textures;
 mod transform;
 mod tree;

@@ -87,7 +87,7 @@ const METALS: [(&str, Vec3, Vec3); 37] = [
 
 /// The RGB `(eta, k)` of Mitsuba's conductor `material` name; `none` is Mitsuba's
 /// perfect mirror (eta 0, k 1, a Fresnel reflectance of 1 at every angle).
-pub(super) fn named_conductor(name: &str) -> Option<(Vec3, Vec3)> {
+pub(crate) fn named_conductor(name: &str) -> Option<(Vec3, Vec3)> {
     if name == "none" {
         return Some((Vec3::ZERO, Vec3::ONE));
     }
