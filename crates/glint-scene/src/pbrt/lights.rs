@@ -178,6 +178,7 @@ fn infinite(r: &mut Reader, p: &Params) -> Result<LightDesc, SceneError> {
         width: 2 * env_height,
         height: env_height,
         texels,
+        sampling: Default::default(),
     });
     let texture = Some(r.scene.textures.len() - 1);
     Ok(LightDesc::Environment(EnvironmentDesc { radiance: Vec3::splat(scale), texture, transform: Vec::new() }))
@@ -264,9 +265,6 @@ pub(super) fn area_light(r: &mut Reader, ty: &str, p: &Params) -> Result<(), Sce
     }
     let radiance = emitted(r, p, "L")?;
     let two_sided = p.bool_or("twosided", false)?;
-    if two_sided {
-        r.warnings.push(p.warning("glint's area lights emit from the front only; the back stays dark"));
-    }
     let power = p.float("power")?.filter(|&phi| phi > 0.0);
     for unsupported in ["filename"] {
         if p.has(unsupported) {

@@ -278,6 +278,9 @@ impl Reader {
         let mut emitting = self.scene.materials[base].clone();
         emitting.name = format!("{} (emitting)", emitting.name);
         emitting.emission = light.radiance;
+        // glint emits from both sides of a two-sided material, so a one-sided light
+        // (pbrt's default) is one-sided in glint; its back is then black, not diffuse.
+        emitting.two_sided = light.two_sided;
         let index = self.add_material(emitting);
         self.emissive.insert((base, light.id), index);
         index

@@ -7,7 +7,7 @@
 //! image (and `udelta`/`vdelta` on either) they are not supported and are warned about.
 
 use glam::{Vec2, Vec3};
-use glint_core::desc::{ColorParam, ScalarParam, TextureDesc, Transfer};
+use glint_core::desc::{ColorParam, ImageSampling, ScalarParam, TextureDesc, TextureWrap, Transfer};
 
 use super::params::Params;
 use super::spectra::{self, Role};
@@ -147,14 +147,13 @@ fn image(r: &mut Reader, name: &str, p: &Params) -> Result<usize, SceneError> {
             Transfer::Srgb
         }
     };
-    for harmless in ["filter", "maxanisotropy", "wrap"] {
-        p.get(harmless);
-    }
+    let sampling = sampling(r, p)?;
+    p.get("maxanisotropy");
     let scale = p.float_or("scale", 1.0)?;
     let invert = p.bool_or("invert", false)?;
     let path = p.src.dir.join(file);
     let loaded = load_texture_hdr(name, &path, transfer).map_err(|e| p.error(e.to_string()))?;
-    let TextureDesc::Image { name, path, width, height, mut texels } = loaded else {
+    let TextureDesc::Image { name, path, width, height, mut texels, .. } = loaded else {
         return Err(p.error("the image loader returned no image"));
     };
     let changed = scale != 1.0 || invert;
@@ -168,8 +167,24 @@ fn image(r: &mut Reader, name: &str, p: &Params) -> Result<usize, SceneError> {
     }
     // Changed texels are no longer the file's: no path, so a writer cannot name it.
     let path = if changed { String::new() } else { path };
-    r.scene.textures.push(TextureDesc::Image { name, path, width, height, texels });
+    r.scene.textures.push(TextureDesc::Image { name, path, width, height, texels, sampling });
     Ok(r.scene.textures.len() - 1)
+}
+
+/// An imagemap's `wrap` and `filter`: repeat and clamp as they are, `black` as clamp
+/// (glint has no border colour); `point` is the nearest texel, the other filters
+/// (bilinear, trilinear, EWA) are bilinear, glint having no mip-maps.
+fn sampling(r: &mut Reader, p: &Params) -> Result<ImageSampling, SceneError> {
+    let wrap = match p.string("wrap")? {
+        None | Some("repeat") => TextureWrap::Repeat,
+        Some("clamp") => TextureWrap::Clamp,
+        Some(other) => {
+            r.warnings.push(p.warning(format!("wrap \"{other}\" is approximated by \"clamp\"")));
+            TextureWrap::Clamp
+        }
+    };
+    let nearest = p.string("filter")? == Some("point");
+    Ok(ImageSampling { wrap: [wrap; 2], nearest })
 }
 
 /// pbrt's 2-D checkerboard: `tex1` where ⌊s⌋ + ⌊t⌋ is even (s = u·uscale,
