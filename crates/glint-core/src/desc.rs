@@ -366,6 +366,19 @@ pub struct MaterialDesc {
     /// reflected and refracted, but lights shine through it.
     #[serde(default = "yes")]
     pub casts_shadows: bool,
+    /// A tangent-space normal map (OpenGL convention: green is +v) that bends the
+    /// shading normal of meshes with uvs, under both integrators.
+    #[serde(default)]
+    pub normal_map: Option<NormalMapDesc>,
+}
+
+/// A normal map: texture [`SceneDesc::textures`]`[texture]`, stored linearly (not
+/// sRGB-decoded), whose RGB in [0, 1] encode a unit vector in the surface's tangent
+/// frame (u, v, normal); `scale` multiplies its tangential part, as glTF's does.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct NormalMapDesc {
+    pub texture: usize,
+    pub scale: f32,
 }
 
 fn yes() -> bool {
@@ -395,6 +408,7 @@ impl Default for MaterialDesc {
             two_sided: true,
             microfacet: MicrofacetKind::Ggx,
             casts_shadows: true,
+            normal_map: None,
         }
     }
 }

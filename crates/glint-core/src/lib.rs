@@ -16,6 +16,7 @@ pub mod light;
 pub mod material;
 pub mod math;
 pub mod mesh;
+pub mod normal_map;
 pub mod render;
 pub mod sampling;
 pub mod scene;

@@ -33,8 +33,12 @@ pub struct Material {
     pub blend: f32,
     /// Index into the scene's textures or [`NO_TEXTURE`].
     pub texture: u32,
-    /// Repeats of the texture across the uv square.
+    /// Repeats of the texture across the uv square (the normal map's too).
     pub texture_repeat: Vec2,
+    /// The normal map's texture, or [`NO_TEXTURE`].
+    pub normal_texture: u32,
+    /// The normal map's tangential scale.
+    pub normal_scale: f32,
 }
 
 impl Material {
@@ -54,6 +58,8 @@ impl Material {
             blend: if texture.is_some() { desc.blend } else { 0.0 },
             texture: texture.unwrap_or(NO_TEXTURE),
             texture_repeat: desc.texture_repeat,
+            normal_texture: desc.normal_map.map_or(NO_TEXTURE, |n| n.texture as u32),
+            normal_scale: desc.normal_map.map_or(1.0, |n| n.scale),
         }
     }
 

@@ -12,7 +12,7 @@ use crate::camera::Camera;
 use crate::desc::{AdaptiveDesc, Features, IntegratorDesc, NodeDesc, NodeKind, SceneDesc, ShapeDesc, TransformOp};
 use crate::emitter::{Emitter, Environment};
 use crate::light::Light;
-use crate::material::Material;
+use crate::material::{Material, NO_TEXTURE};
 use crate::math::{Aabb, Ray, Transform, offset_ray_origin};
 use crate::mesh::Mesh;
 use crate::sampling::{Filter, PixelSampler};
@@ -166,6 +166,9 @@ pub fn compile(desc: &SceneDesc) -> Result<RenderScene, CompileError> {
             let texture = m.texture.map(|i| i as u32);
             if texture.is_some_and(|i| i as usize >= textures.len()) {
                 return Err(invalid(&m.name, "texture index out of range"));
+            }
+            if m.normal_map.is_some_and(|n| n.texture >= textures.len() || !n.scale.is_finite()) {
+                return Err(invalid(&m.name, "its normal map names no texture, or its scale is not finite"));
             }
             let mat = Material::compile(m, texture);
             let numbers = [mat.ambient, mat.diffuse, mat.specular, mat.reflective, mat.transmissive];
@@ -600,9 +603,18 @@ impl RenderScene {
                 part: hit.part,
             };
         }
-        let m = self.meshes[inst.shape.mesh_index() as usize].surface(&local, hit);
+        let mesh = &self.meshes[inst.shape.mesh_index() as usize];
+        let m = mesh.surface(&local, hit);
         let (surface, geometric, shadow_point) = (m.surface, m.geometric, m.shadow_point);
-        let normal = xf.normal_to_world(surface.normal).normalize_or(Vec3::Y);
+        let mut normal = xf.normal_to_world(surface.normal).normalize_or(Vec3::Y);
+        let shading = &self.materials[material as usize];
+        if shading.normal_texture != NO_TEXTURE
+            && let Some((dpdu, dpdv)) = mesh.uv_frame(hit.part as usize)
+        {
+            let texel = self.texture(shading.normal_texture, surface.uv * shading.texture_repeat);
+            let frame = [xf.vector_to_world(dpdu), xf.vector_to_world(dpdv), normal];
+            normal = crate::normal_map::bent_normal(frame, texel, shading.normal_scale);
+        }
         Hit {
             t: hit.t,
             point: xf.point_to_world(surface.point),

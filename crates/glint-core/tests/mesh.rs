@@ -253,3 +253,46 @@ fn an_object_that_casts_no_shadow_lets_light_through_under_both_integrators() {
         assert_eq!(dark_passing, 0, "{integrator:?}: a sphere that casts no shadow darkens {dark_passing} pixels");
     }
 }
+
+/// A unit quad in z = 0 facing +z, its uvs along x and y (or x and −y, `mirrored`),
+/// whose material bends normals by a 1×1 normal map of `texel`.
+fn normal_mapped_quad(texel: Vec3, mirrored: bool) -> glint_core::scene::RenderScene {
+    let mut desc = base();
+    let positions = vec![
+        Vec3::new(-1.0, -1.0, 0.0),
+        Vec3::new(1.0, -1.0, 0.0),
+        Vec3::new(1.0, 1.0, 0.0),
+        Vec3::new(-1.0, 1.0, 0.0),
+    ];
+    let v = |y: f32| if mirrored { 1.0 - y } else { y };
+    let uvs = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)].map(|(x, y)| glam::Vec2::new(x, v(y))).to_vec();
+    let indices = vec![0, 1, 2, 0, 2, 3];
+    desc.meshes.push(MeshDesc { positions, uvs, indices, ..Default::default() });
+    desc.textures.push(TextureDesc::Image {
+        name: "bumps".into(),
+        path: String::new(),
+        width: 1,
+        height: 1,
+        texels: vec![texel],
+        sampling: Default::default(),
+    });
+    desc.materials[0].normal_map = Some(NormalMapDesc { texture: 0, scale: 1.0 });
+    desc.objects = vec![node(0, vec![TransformOp::Rotate { axis: Vec3::Z, degrees: 90.0 }])];
+    compile(&desc).unwrap()
+}
+
+#[test]
+fn a_normal_map_bends_the_shading_normal_in_the_uv_frame() {
+    let ray = glint_core::math::Ray::new(Vec3::new(0.1, 0.2, 3.0), Vec3::NEG_Z);
+    let normal = |texel, mirrored| normal_mapped_quad(texel, mirrored).intersect(&ray, f32::INFINITY).unwrap().normal;
+    // The flat texel leaves the normal alone.
+    assert!((normal(Vec3::new(0.5, 0.5, 1.0), false) - Vec3::Z).length() < 1e-5);
+    // Full red turns it onto +u, which the quarter turn about z took to +y.
+    let red = normal(Vec3::new(1.0, 0.5, 0.5), false);
+    assert!((red - Vec3::Y).length() < 1e-5, "{red}");
+    // Full green turns it onto +v: −x after the turn; −v (so +x) when the uvs are mirrored.
+    let green = normal(Vec3::new(0.5, 1.0, 0.5), false);
+    assert!((green - Vec3::NEG_X).length() < 1e-5, "{green}");
+    let mirrored = normal(Vec3::new(0.5, 1.0, 0.5), true);
+    assert!((mirrored - Vec3::X).length() < 1e-5, "{mirrored}");
+}

@@ -113,6 +113,8 @@ gpu_record!(pub MATERIAL = Material as "Material" {
     blend: F32 => blend,
     texture: U32 => texture,
     texture_repeat: Vec2 => texture_repeat,
+    normal_texture: U32 => normal_texture,
+    normal_scale: F32 => normal_scale,
 });
 
 // `kind` is a `#[repr(u32)]` enum: one word, read as the discriminant.

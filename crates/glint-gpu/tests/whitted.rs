@@ -186,6 +186,21 @@ fn a_smooth_mesh_matches_the_cpu() {
 }
 
 #[test]
+fn normal_maps_match_the_cpu() {
+    let Some(gpu) = gpu() else { return };
+    let board =
+        concat!(env!("CARGO_MANIFEST_DIR"), "/../glint-scene/tests/course/json/illuminate/required/textures/board.png");
+    let source = with_ball(&format!(
+        "light point {{ position [1 2.5 2] color 0.9 }}\n\
+         texture \"bumps\" image {{ file \"{board}\" encoding \"linear\" }}\n\
+         material \"bumpy\" {{ diffuse [0.6 0.6 0.5] specular 0.5 shininess 40 reflective 0.2 normal_map \"bumps\" repeat [3 2] }}\n\
+         mesh_instance \"ball\" {{ material \"bumpy\" scale 0.5 translate [-0.3 0.5 0] }}\n\
+         mesh_instance \"ball\" {{ material \"clay\" scale 0.3 translate [0.7 0.3 0.3] }}\n"
+    ));
+    check("whitted normal maps", &uv_mapped_scene(&source, 40, 32, None), &gpu);
+}
+
+#[test]
 fn vertex_colours_match_the_cpu() {
     let Some(gpu) = gpu() else { return };
     let source = with_ball(

@@ -182,6 +182,16 @@ fn image_textures_wrap_and_filter_as_written_and_are_written_back() {
     let written = glint_scene::native::writer::write_scene(&scene, &options).expect("writes").text;
     assert!(written.contains("wrap \"clamp\" filter \"nearest\""), "{written}");
     assert!(written.contains("wrap_u \"repeat\" wrap_v \"mirror\""), "{written}");
+    // Data (a normal map) is kept as stored: the grey texel 128 is 128/255, not 0.216.
+    let linear = "texture \"n\" image { file \"tex.png\" encoding \"linear\" }\n\
+                  material \"m\" { normal_map \"n\" normal_scale 0.5 }";
+    let scene = parse_scene(linear, "inline", &dir.0).expect("parses");
+    let TextureDesc::Image { texels, .. } = &scene.textures[0] else { panic!() };
+    assert!((texels[2] - Vec3::splat(128.0 / 255.0)).length() < 1e-6, "{}", texels[2]);
+    let normal_map = scene.materials[0].normal_map.expect("a normal map");
+    assert_eq!((normal_map.texture, normal_map.scale), (0, 0.5));
+    let e = parse_scene("material \"m\" { normal_scale 2 }", "inline", &dir.0).unwrap_err();
+    assert!(e.message.contains("needs a 'normal_map'"), "{e}");
     let e = parse_scene("texture \"a\" image { file \"tex.png\" wrap \"tile\" }", "inline", &dir.0).unwrap_err();
     assert!(e.message.contains("\"repeat\"") && e.message.contains("\"mirror\""), "{e}");
 }

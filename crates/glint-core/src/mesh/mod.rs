@@ -436,6 +436,25 @@ impl Mesh {
         MeshSurface { surface: SurfacePoint { point, normal, uv }, color, geometric, shadow_point }
     }
 
+    /// `(∂p/∂u, ∂p/∂v)` of triangle `tri` in object space, from its corners and uvs;
+    /// `None` without uvs or where the uvs give the triangle no area.
+    pub fn uv_frame(&self, tri: usize) -> Option<(Vec3, Vec3)> {
+        if self.uvs.is_empty() {
+            return None;
+        }
+        let [a, b, c] = self.vertices(tri);
+        let [i0, i1, i2] = self.triangles[tri].map(|i| i as usize);
+        let (du1, du2) = (self.uvs[i1] - self.uvs[i0], self.uvs[i2] - self.uvs[i0]);
+        let det = du1.x * du2.y - du1.y * du2.x;
+        if det.abs() < 1e-12 || !det.is_finite() {
+            return None;
+        }
+        let (e1, e2) = (b - a, c - a);
+        let dpdu = (e1 * du2.y - e2 * du1.y) / det;
+        let dpdv = (e2 * du1.x - e1 * du2.x) / det;
+        Some((dpdu, dpdv))
+    }
+
     /// Heap bytes of the compiled mesh: each array's length times its element size
     /// (vertices, attributes, indices, triangle packets, BVH nodes), unused capacity not
     /// counted. What `bench/embree_compare.sh` compares with Embree's memory per triangle.

@@ -737,6 +737,26 @@ fn normal_to_world(x: Xform, n: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(dot(m[0].xyz, n), dot(m[1].xyz, n), dot(m[2].xyz, n));
 }
 
+// glint_core::normal_map::bent_normal: the normal a tangent-space texel encodes in the
+// frame (∂p/∂u, ∂p/∂v, n), its tangential part times `scale`; n where degenerate.
+fn bent_normal(dpdu: vec3<f32>, dpdv: vec3<f32>, n: vec3<f32>, texel: vec3<f32>, scale: f32) -> vec3<f32> {
+    let t_raw = dpdu - n * dot(n, dpdu);
+    let t_len = length(t_raw);
+    if !(t_len > 0.0) || t_len > 3.0e38 {
+        return n;
+    }
+    let t = t_raw / t_len;
+    let b0 = cross(n, t);
+    let b = select(b0, -b0, dot(b0, dpdv) < 0.0);
+    let local = (2.0 * texel - vec3<f32>(1.0)) * vec3<f32>(scale, scale, 1.0);
+    let bent = t * local.x + b * local.y + n * max(local.z, 0.0);
+    let len = length(bent);
+    if !(len > 0.0) || len > 3.0e38 {
+        return n;
+    }
+    return bent / len;
+}
+
 fn mesh_vertex(mesh: GpuMesh, i: u32) -> vec3<f32> {
     return float3(mesh.position_offset + 3u * i);
 }
@@ -812,11 +832,31 @@ fn hit_from(r: Ray, found: SceneHit) -> Hit {
         }
     }
     var uv = vec2<f32>(bary.y, bary.z);
+    // ∂p/∂u and ∂p/∂v of the triangle, for a normal map (glint_core::mesh::Mesh::uv_frame).
+    var dpdu = vec3<f32>(0.0);
+    var dpdv = vec3<f32>(0.0);
+    var has_uv_frame = false;
     if mesh.uv_offset != NO_INDEX {
         let u0 = vec2<f32>(floats[mesh.uv_offset + 2u * i0], floats[mesh.uv_offset + 2u * i0 + 1u]);
         let u1 = vec2<f32>(floats[mesh.uv_offset + 2u * i1], floats[mesh.uv_offset + 2u * i1 + 1u]);
         let u2 = vec2<f32>(floats[mesh.uv_offset + 2u * i2], floats[mesh.uv_offset + 2u * i2 + 1u]);
         uv = bary.x * u0 + bary.y * u1 + bary.z * u2;
+        let du1 = u1 - u0;
+        let du2 = u2 - u0;
+        let det = du1.x * du2.y - du1.y * du2.x;
+        if abs(det) >= 1e-12 {
+            dpdu = ((b - a) * du2.y - (c - a) * du1.y) / det;
+            dpdv = ((c - a) * du1.x - (b - a) * du2.x) / det;
+            has_uv_frame = true;
+        }
+    }
+    var n = normalize_or(normal_to_world(xform, normal), vec3<f32>(0.0, 1.0, 0.0));
+    let shading = materials[hit.material];
+    if shading.normal_texture != NO_TEXTURE && has_uv_frame {
+        let texel = texture_sample(shading.normal_texture, uv * v2(shading.texture_repeat));
+        let frame_u = (to_world * vec4<f32>(dpdu, 0.0)).xyz;
+        let frame_v = (to_world * vec4<f32>(dpdv, 0.0)).xyz;
+        n = bent_normal(frame_u, frame_v, n, texel, shading.normal_scale);
     }
     hit.color = vec3<f32>(1.0);
     if mesh.color_offset != NO_INDEX {
@@ -825,7 +865,6 @@ fn hit_from(r: Ray, found: SceneHit) -> Hit {
         let c2 = float3(mesh.color_offset + 3u * i2);
         hit.color = bary.x * c0 + bary.y * c1 + bary.z * c2;
     }
-    let n = normalize_or(normal_to_world(xform, normal), vec3<f32>(0.0, 1.0, 0.0));
     hit.point = (to_world * vec4<f32>(point, 1.0)).xyz;
     hit.normal = n;
     hit.geometric_normal = normalize_or(normal_to_world(xform, geometric), n);

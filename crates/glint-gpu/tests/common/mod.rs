@@ -51,6 +51,20 @@ pub fn painted_scene(source: &str, width: u32, height: u32, spp: Option<u32>) ->
     compile(&desc).expect("scene compiles")
 }
 
+/// A native scene from source whose meshes get uvs from their positions (longitude and
+/// height), so that normal maps have a frame to bend normals in.
+pub fn uv_mapped_scene(source: &str, width: u32, height: u32, spp: Option<u32>) -> RenderScene {
+    let mut desc = glint_scene::parse_scene(source, "test.glint", Path::new(".")).expect("scene parses");
+    desc.settings.width = width;
+    desc.settings.height = height;
+    desc.settings.spp = spp.or(desc.settings.spp);
+    for mesh in &mut desc.meshes {
+        let uv = |p: &glam::Vec3| glam::Vec2::new(p.z.atan2(p.x) / std::f32::consts::TAU + 0.5, 0.5 + 0.5 * p.y);
+        mesh.uvs = mesh.positions.iter().map(uv).collect();
+    }
+    compile(&desc).expect("scene compiles")
+}
+
 /// A scene file of the repository.
 pub fn scene_file(name: &str, width: u32, height: u32, spp: u32) -> RenderScene {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes").join(name);

@@ -9,16 +9,20 @@
 //! | `illum` 3, 5, 7 (and 4, 6) | mirror reflection in the `Ks` colour |
 //! | `illum` 4, 6, 7, 9 | glass: transmission `Tf` refracted with ior `Ni` (1.5 when absent); a smooth dielectric for the path tracer |
 //!
+//! | `norm`, and `bump`/`map_Bump` holding a normal map | a tangent-space normal map (its `-bm` scales it) |
+//!
 //! Without an `illum` of 3 to 7 a surface has no mirror reflection (illum 2, a
-//! highlight only, is what exporters write for ordinary surfaces). `map_Ks`, bump and
-//! normal maps and the other maps have no slot in glint's material: they are named in
-//! one warning per material.
+//! highlight only, is what exporters write for ordinary surfaces). Exporters (Blender's
+//! among them) write normal maps as `map_Bump`: a bump image whose mean texel is the
+//! bluish (0.5, 0.5, ≥ 0.6) of a tangent-space normal map is read as one; a height map
+//! is not used. `map_Ks` and the other maps have no slot in glint's material: they are
+//! named in one warning per material.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
-use glint_core::desc::{BsdfDesc, MaterialDesc, ScalarParam, TextureDesc};
+use glint_core::desc::{BsdfDesc, MaterialDesc, NormalMapDesc, ScalarParam, TextureDesc, Transfer};
 
 use super::decode_text;
 
@@ -35,6 +39,9 @@ struct Entry {
     opacity: Option<f32>,
     illum: Option<u32>,
     map_kd: Option<PathBuf>,
+    /// A normal or bump map: the file, its `-bm` scale, and whether it was given as
+    /// `norm` (certainly a normal map) rather than as a bump map.
+    map_normal: Option<(PathBuf, f32, bool)>,
     /// Maps glint reads past (`map_Ks`, `bump`, …), by keyword.
     unused_maps: Vec<String>,
     /// The MTL file the material came from, for warnings.
@@ -48,8 +55,7 @@ pub struct Library {
 }
 
 /// Maps read but not drawn: glint's material has no slot for them.
-const UNUSED_MAPS: [&str; 12] =
-    ["map_Ks", "map_Ka", "map_Ns", "map_d", "map_Ke", "map_bump", "map_Bump", "bump", "norm", "disp", "decal", "refl"];
+const UNUSED_MAPS: [&str; 8] = ["map_Ks", "map_Ka", "map_Ns", "map_d", "map_Ke", "disp", "decal", "refl"];
 
 impl Library {
     /// Reads one MTL file; a missing or broken library is a warning (the model still shows).
@@ -105,8 +111,58 @@ impl Library {
                 Err(e) => warnings.push(format!("material '{name}': texture not loaded: {e}")),
             }
         }
+        if let Some((file, scale, certain)) = &entry.map_normal {
+            m.normal_map = normal_map(name, file, *scale, *certain, textures, warnings);
+        }
         m
     }
+}
+
+/// The normal map in `file`, loaded as data into `textures`; `None`, with a warning,
+/// when it cannot be loaded or (given as a bump map) holds heights, not normals.
+fn normal_map(
+    name: &str,
+    file: &Path,
+    scale: f32,
+    certain: bool,
+    textures: &mut Vec<TextureDesc>,
+    warnings: &mut Vec<String>,
+) -> Option<NormalMapDesc> {
+    let texture = match crate::texture_io::load_texture_encoded(name, file, Transfer::Identity) {
+        Ok(t) => t,
+        Err(e) => {
+            warnings.push(format!("material '{name}': normal map not loaded: {e}"));
+            return None;
+        }
+    };
+    if !certain && !looks_like_normal_map(&texture) {
+        warnings.push(format!(
+            "material '{name}': {} is a bump (height) map, which glint does not use; only normal maps bend normals",
+            file.display()
+        ));
+        return None;
+    }
+    textures.push(texture);
+    Some(NormalMapDesc { texture: textures.len() - 1, scale })
+}
+
+/// Whether an image's mean texel is the bluish (0.5, 0.5, high) of a tangent-space
+/// normal map, rather than the grey of a height map.
+fn looks_like_normal_map(texture: &TextureDesc) -> bool {
+    let TextureDesc::Image { texels, .. } = texture else { return false };
+    let mean = texels.iter().copied().sum::<Vec3>() / texels.len().max(1) as f32;
+    mean.z >= 0.6 && (mean.x - 0.5).abs() < 0.2 && (mean.y - 0.5).abs() < 0.2
+}
+
+/// The `-bm` option of a map statement (the bump multiplier), 1 without one.
+fn bump_scale(rest: &str) -> f32 {
+    let mut words = rest.split_whitespace();
+    while let Some(word) = words.next() {
+        if word == "-bm" {
+            return words.next().and_then(|w| w.parse().ok()).filter(|x: &f32| x.is_finite()).unwrap_or(1.0);
+        }
+    }
+    1.0
 }
 
 /// The first word of `line` and the rest, trimmed (names and file names may hold spaces).
@@ -139,6 +195,10 @@ impl Entry {
             "map_Kd" => {
                 let file = map_file(rest).ok_or_else(|| "'map_Kd' names no file".to_owned())?;
                 self.map_kd = Some(find_texture(dir, &file));
+            }
+            "norm" | "bump" | "map_bump" | "map_Bump" => {
+                let file = map_file(rest).ok_or_else(|| format!("'{keyword}' names no file"))?;
+                self.map_normal = Some((find_texture(dir, &file), bump_scale(rest), keyword == "norm"));
             }
             _ if UNUSED_MAPS.contains(&keyword) && !self.unused_maps.iter().any(|m| m == keyword) => {
                 self.unused_maps.push(keyword.to_owned());

@@ -363,7 +363,7 @@ newmtl screen\nTr 0.5\n\
 newmtl mirror\nKs 0.9 0.9 0.9\nillum 3\n\
 newmtl shiny\nKs 0.5 0.5 0.5\nillum 2\n\
 newmtl glass\nKs 1 1 1\nNi 1.5\nillum 7\n\
-newmtl bumpy\nmap_Ks spec.png\nbump -bm 0.3 b.png\nnorm n.png\n";
+newmtl bumpy\nmap_Ks spec.png\n";
     write(&dir, "m.mtl", mtl.as_bytes());
     let names = ["lamp", "veil", "screen", "mirror", "shiny", "glass", "bumpy"];
     let mut obj = String::from("mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n");
@@ -384,5 +384,33 @@ newmtl bumpy\nmap_Ks spec.png\nbump -bm 0.3 b.png\nnorm n.png\n";
     let unused: Vec<_> = import.warnings.iter().filter(|w| w.contains("read but not used")).collect();
     assert_eq!(unused.len(), 1, "{:?}", import.warnings);
     assert!(unused[0].contains("m.mtl") && unused[0].contains("'bumpy'"), "{}", unused[0]);
-    assert!(unused[0].contains("map_Ks, bump, norm"), "{}", unused[0]);
+    assert!(unused[0].contains("map_Ks"), "{}", unused[0]);
+}
+
+#[test]
+fn mtl_normal_maps_are_read_as_data_and_height_maps_named() {
+    let dir = folder("mtl-normals");
+    let save = |name: &str, rgb: [u8; 3]| {
+        image::save_buffer(dir.join(name), &rgb.repeat(4), 2, 2, image::ExtendedColorType::Rgb8).unwrap();
+    };
+    save("normal.png", [128, 128, 255]);
+    save("height.png", [90, 90, 90]);
+    let mtl = "newmtl norm\nnorm normal.png\n\
+newmtl blender\nmap_Bump -bm 0.5 normal.png\n\
+newmtl height\nbump height.png\n";
+    write(&dir, "m.mtl", mtl.as_bytes());
+    let mut obj = String::from("mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n");
+    for name in ["norm", "blender", "height"] {
+        obj += &format!("usemtl {name}\nf 1 2 3\n");
+    }
+    let import = load_mesh(&write(&dir, "t.obj", obj.as_bytes())).unwrap();
+    let m = |name: &str| import.materials.iter().find(|m| m.name == name).unwrap();
+    let norm = m("norm").normal_map.expect("norm is a normal map");
+    assert_eq!(norm.scale, 1.0);
+    // Read as data: 128/255, not the sRGB-decoded 0.216.
+    let TextureDesc::Image { texels, .. } = &import.textures[norm.texture] else { panic!() };
+    assert!((texels[0] - Vec3::new(128.0, 128.0, 255.0) / 255.0).length() < 1e-6, "{}", texels[0]);
+    assert_eq!(m("blender").normal_map.map(|n| n.scale), Some(0.5), "a bluish map_Bump is a normal map");
+    assert_eq!(m("height").normal_map, None);
+    assert!(import.warnings.iter().any(|w| w.contains("height.png is a bump (height) map")), "{:?}", import.warnings);
 }

@@ -1,7 +1,7 @@
 //! `material "name" { … }` and `texture "name" checker|image { … }`.
 
 use glam::{Vec2, Vec3};
-use glint_core::desc::{ImageSampling, MaterialDesc, TextureDesc, TextureWrap};
+use glint_core::desc::{ImageSampling, MaterialDesc, NormalMapDesc, TextureDesc, TextureWrap, Transfer};
 
 use super::args::{self, Result, Seen};
 use super::bsdf;
@@ -13,7 +13,7 @@ use crate::texture_io;
 /// The texture types, in the order the documentation lists them.
 pub const TEXTURE_KINDS: [&str; 2] = ["checker", "image"];
 
-const MATERIAL_PROPERTIES: [&str; 19] = [
+const MATERIAL_PROPERTIES: [&str; 21] = [
     "diffuse",
     "specular",
     "shininess",
@@ -33,12 +33,15 @@ const MATERIAL_PROPERTIES: [&str; 19] = [
     "two_sided",
     "microfacet",
     "casts_shadows",
+    "normal_map",
+    "normal_scale",
 ];
 
 /// Builds a material; unset properties keep [`MaterialDesc::default`].
 pub fn material(src: &Source, node: &Node, name: &str, textures: &Registry) -> Result<MaterialDesc> {
     let mut m = MaterialDesc { name: name.to_owned(), ..MaterialDesc::default() };
     let mut seen = Seen::default();
+    let mut normal_scale = None;
     let mut rest = node.children().iter();
     while let Some(prop) = rest.next() {
         seen.once(src, prop, "material")?;
@@ -73,9 +76,22 @@ pub fn material(src: &Source, node: &Node, name: &str, textures: &Registry) -> R
                 let (texture, pos) = args::string(src, prop, "a texture name")?;
                 m.texture = Some(textures.lookup(src, pos, "texture", &texture)?);
             }
+            "normal_map" => {
+                args::no_block(src, prop)?;
+                let (texture, pos) = args::string(src, prop, "a texture name")?;
+                let scale = m.normal_map.map_or(1.0, |n| n.scale);
+                m.normal_map = Some(NormalMapDesc { texture: textures.lookup(src, pos, "texture", &texture)?, scale });
+            }
+            "normal_scale" => normal_scale = Some((args::number(src, prop)?, prop)),
             _ => {
                 return Err(args::unknown(src, prop, "property", "in 'material'", &MATERIAL_PROPERTIES));
             }
+        }
+    }
+    if let Some((scale, prop)) = normal_scale {
+        match &mut m.normal_map {
+            Some(map) => map.scale = scale,
+            None => return Err(src.invalid(prop.pos(), "'normal_scale' needs a 'normal_map' in the same material")),
         }
     }
     Ok(m)
@@ -109,6 +125,7 @@ pub fn texture(src: &Source, name: &str, kind: &Node) -> Result<TextureDesc> {
     }
     let mut file = None;
     let mut sampling = ImageSampling::default();
+    let mut transfer = Transfer::Srgb;
     for prop in kind.children() {
         seen.once(src, prop, "image")?;
         match prop.name.as_str() {
@@ -120,8 +137,11 @@ pub fn texture(src: &Source, name: &str, kind: &Node) -> Result<TextureDesc> {
             "wrap_u" => sampling.wrap[0] = wrap(src, prop)?,
             "wrap_v" => sampling.wrap[1] = wrap(src, prop)?,
             "filter" => sampling.nearest = args::choice(src, prop, &[("bilinear", false), ("nearest", true)])?,
+            "encoding" => {
+                transfer = args::choice(src, prop, &[("srgb", Transfer::Srgb), ("linear", Transfer::Identity)])?;
+            }
             _ => {
-                let allowed = ["file", "wrap", "wrap_u", "wrap_v", "filter"];
+                let allowed = ["file", "wrap", "wrap_u", "wrap_v", "filter", "encoding"];
                 return Err(args::unknown(src, prop, "property", "in 'texture image'", &allowed));
             }
         }
@@ -130,8 +150,8 @@ pub fn texture(src: &Source, name: &str, kind: &Node) -> Result<TextureDesc> {
         return Err(src.invalid(kind.pos(), "an image texture needs its file, as in `image { file \"wood.png\" }`"));
     };
     let path = src.dir.join(&file);
-    let mut texture =
-        texture_io::load_texture(name, &path).map_err(|e| src.error(SceneErrorKind::Io, prop.pos(), e.to_string()))?;
+    let mut texture = texture_io::load_texture_hdr(name, &path, transfer)
+        .map_err(|e| src.error(SceneErrorKind::Io, prop.pos(), e.to_string()))?;
     if let TextureDesc::Image { sampling: s, .. } = &mut texture {
         *s = sampling;
     }

@@ -69,8 +69,10 @@ pub fn write_scene(desc: &SceneDesc, options: &WriteOptions) -> Result<Written, 
     w.settings(&desc.settings)?;
     w.camera(&desc.camera)?;
     let texture_names = unique_names(desc.textures.iter().map(texture_name), "texture");
-    for (texture, name) in desc.textures.iter().zip(&texture_names) {
-        w.texture(texture, name, options.base_dir.as_deref())?;
+    // Normal maps are data: their files are read back without sRGB decoding.
+    let data: Vec<usize> = desc.materials.iter().filter_map(|m| m.normal_map.map(|n| n.texture)).collect();
+    for (i, (texture, name)) in desc.textures.iter().zip(&texture_names).enumerate() {
+        w.texture(texture, name, options.base_dir.as_deref(), data.contains(&i))?;
     }
     if !desc.textures.is_empty() {
         w.out.push('\n');
@@ -283,7 +285,13 @@ impl Writer {
         Ok(())
     }
 
-    fn texture(&mut self, t: &TextureDesc, name: &str, base_dir: Option<&Path>) -> Result<(), WriteError> {
+    fn texture(
+        &mut self,
+        t: &TextureDesc,
+        name: &str,
+        base_dir: Option<&Path>,
+        linear: bool,
+    ) -> Result<(), WriteError> {
         let line = match t {
             TextureDesc::Checker { even, odd, cells, .. } => format!(
                 "texture {} checker {{ even {} odd {} cells {} }}",
@@ -300,7 +308,9 @@ impl Writer {
                     ));
                 }
                 let file = texture_file(Path::new(path), base_dir);
-                format!("texture {} image {{ file {}{} }}", quote(name), quote(&file), sampling_properties(sampling))
+                let encoding = if linear { " encoding \"linear\"" } else { "" };
+                let sampling = sampling_properties(sampling);
+                format!("texture {} image {{ file {}{sampling}{encoding} }}", quote(name), quote(&file))
             }
         };
         self.line(0, &line);
@@ -355,6 +365,19 @@ impl Writer {
         if !m.casts_shadows {
             lines.push("casts_shadows false".to_owned());
         }
+        if let Some(map) = m.normal_map {
+            let Some(texture_name) = textures.get(map.texture) else {
+                return fail(format!(
+                    "material '{name}' has normal map texture {}, which the scene lacks",
+                    map.texture
+                ));
+            };
+            lines.push(format!(
+                "normal_map {}  normal_scale {}",
+                quote(texture_name),
+                num(map.scale, &what("normal_scale"))?
+            ));
+        }
         self.line(0, &format!("material {} {{", quote(name)));
         for l in &lines {
             self.line(1, l);
@@ -383,6 +406,7 @@ impl Writer {
             two_sided: defaults.two_sided,
             microfacet: defaults.microfacet,
             casts_shadows: defaults.casts_shadows,
+            normal_map: defaults.normal_map,
             ..m.clone()
         };
         if rest != defaults {

@@ -18,7 +18,7 @@
 //! lobes are isotropic, so different `uroughness` and `vroughness` are averaged.
 
 use glam::Vec3;
-use glint_core::desc::{BsdfDesc, ColorParam, MaterialDesc, MicrofacetKind, ScalarParam};
+use glint_core::desc::{BsdfDesc, ColorParam, MaterialDesc, MicrofacetKind, NormalMapDesc, ScalarParam, Transfer};
 
 use super::Reader;
 use super::params::{Params, SpectrumValue};
@@ -49,13 +49,24 @@ fn desc(name: String, bsdf: BsdfDesc, base: ColorParam) -> MaterialDesc {
 pub(super) fn material(r: &mut Reader, ty: &str, p: &Params, name: Option<&str>) -> Result<usize, SceneError> {
     let label = name.map_or_else(|| format!("{ty}@{}", p.origin()), str::to_owned);
     let (bsdf, base) = bsdf(r, ty, p)?;
-    for harmless in ["displacement", "normalmap"] {
-        if p.has(harmless) {
-            p.get(harmless);
-            r.warnings.push(p.warning(format!("\"{harmless}\" is not supported and is ignored")));
-        }
+    if p.has("displacement") {
+        p.get("displacement");
+        r.warnings.push(p.warning("\"displacement\" is not supported and is ignored"));
     }
-    Ok(r.add_material(desc(label, bsdf, base)))
+    let mut material = desc(label, bsdf, base);
+    material.normal_map = normal_map(r, p)?;
+    Ok(r.add_material(material))
+}
+
+/// `"string normalmap"`: an image read linearly, as pbrt-v4 reads it, whose texels
+/// are normals in the frame of ∂p/∂u and the shading normal.
+fn normal_map(r: &mut Reader, p: &Params) -> Result<Option<NormalMapDesc>, SceneError> {
+    let Some(file) = p.string("normalmap")? else { return Ok(None) };
+    let path = p.src.dir.join(file);
+    let texture = crate::texture_io::load_texture_encoded(&format!("normalmap {file}"), &path, Transfer::Identity)
+        .map_err(|e| p.error(e.to_string()))?;
+    r.scene.textures.push(texture);
+    Ok(Some(NormalMapDesc { texture: r.scene.textures.len() - 1, scale: 1.0 }))
 }
 
 /// The BSDF of a material type and the colour the Whitted integrator shows for it.

@@ -7,15 +7,16 @@
 //! channel) is a conductor whose reflectance is the base colour, below it a plastic (the
 //! base colour under a coat of the material's IOR, 1.5 by default: glTF's 4 % F0). A
 //! material between the two is named in a warning. Transmission at or above one half is
-//! a (thick) dielectric tinted by the base colour. Occlusion textures are left out on
-//! purpose: they fake the shadowing that both integrators trace.
+//! a (thick) dielectric tinted by the base colour. The normal texture is a normal map
+//! in the uv frame. Occlusion textures are left out on purpose: they fake the shadowing
+//! that both integrators trace.
 
 use std::borrow::Cow;
 use std::path::Path;
 
 use glam::{Vec2, Vec3};
 use glint_core::desc::{
-    BsdfDesc, ColorParam, ImageSampling, MaterialDesc, ScalarParam, TextureDesc, TextureWrap, Transfer,
+    BsdfDesc, ColorParam, ImageSampling, MaterialDesc, NormalMapDesc, ScalarParam, TextureDesc, TextureWrap, Transfer,
 };
 
 use super::{Resource, State, resolve};
@@ -26,6 +27,8 @@ use crate::input::{self, InputKind};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub(super) enum Texels {
     Color,
+    /// Values stored as they are (a normal map).
+    Data,
     /// glTF's metallic-roughness texture reduced to the GGX alpha its green channel
     /// gives: `roughness²` in every channel, so a [`ScalarParam`] reads it as is.
     AlphaFromGreen,
@@ -60,11 +63,10 @@ impl State<'_> {
         });
         desc.emission = if material.unlit() { pbr.base.value } else { pbr.emission };
         desc.two_sided = material.double_sided();
-        if material.normal_texture().is_some() {
-            self.warn(format!(
-                "material '{}': its normal texture is not used (glint has no normal mapping yet)",
-                desc.name
-            ));
+        if let Some(normal) = material.normal_texture()
+            && let Some(texture) = self.texture(&normal.texture(), Texels::Data)?
+        {
+            desc.normal_map = Some(NormalMapDesc { texture, scale: normal.scale() });
         }
         self.import.materials.push(desc);
         self.materials.insert(index, self.import.materials.len() - 1);
@@ -168,7 +170,7 @@ impl State<'_> {
         };
         let transfer = match texels {
             Texels::Color => Transfer::Srgb,
-            Texels::AlphaFromGreen => Transfer::Identity,
+            Texels::AlphaFromGreen | Texels::Data => Transfer::Identity,
         };
         match crate::texture_io::decode_image(&format!("image{index}"), &file, &bytes, transfer, false) {
             Ok(desc) => Ok(Some(desc)),

@@ -289,3 +289,24 @@ fn an_undecodable_image_is_a_warning_and_a_required_extension_one_sentence() {
     assert_eq!(e.message.matches("invalid glTF").count(), 1, "{e}");
     assert!(e.message.contains("material"), "{e}");
 }
+
+#[test]
+fn a_normal_texture_is_a_normal_map_read_as_data() {
+    let mut model = Model::default();
+    square(&mut model);
+    model.floats(&[0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0], "VEC2", 4, "");
+    let mut png = Vec::new();
+    let image = image::RgbImage::from_raw(1, 1, vec![128, 128, 255]).unwrap();
+    image.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png).unwrap();
+    let more = format!(
+        r#","materials":[{{"normalTexture":{{"index":0,"scale":0.7}}}}],
+"textures":[{{"source":0}}],"images":[{{"uri":"data:image/png;base64,{}"}}]"#,
+        base64(&png)
+    );
+    let primitive = r#"{"attributes":{"POSITION":0,"TEXCOORD_0":1},"material":0}"#;
+    let import = read(model.document(&one_primitive(primitive, &more))).unwrap();
+    let normal_map = import.materials[0].normal_map.expect("a normal map");
+    assert_eq!(normal_map.scale, 0.7);
+    let TextureDesc::Image { texels, .. } = &import.textures[normal_map.texture] else { panic!() };
+    assert!((texels[0] - Vec3::new(128.0, 128.0, 255.0) / 255.0).length() < 1e-6, "not sRGB-decoded: {}", texels[0]);
+}
