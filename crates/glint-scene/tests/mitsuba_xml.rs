@@ -564,3 +564,34 @@ fn the_rendered_image_is_not_mirrored() {
     // The rectangle faces +z, towards the camera, and is lit.
     assert!(left.z > 0.1 && left.x < 0.01, "left side shows the blue rectangle: {left}");
 }
+
+#[test]
+fn a_normalmap_bsdf_gives_its_nested_bsdf_a_normal_map() {
+    let dir = temp_dir("normalmap");
+    image::RgbImage::from_raw(1, 1, vec![128, 128, 255]).unwrap().save(dir.join("n.png")).unwrap();
+    let xml = dir.join("scene.xml");
+    std::fs::write(
+        &xml,
+        r#"<scene version="3.0.0">
+    <sensor type="perspective"/>
+    <shape type="sphere">
+        <bsdf type="normalmap">
+            <texture name="normalmap" type="bitmap"><boolean name="raw" value="true"/><string name="filename" value="n.png"/></texture>
+            <bsdf type="roughplastic"><rgb name="diffuse_reflectance" value="0.2, 0.4, 0.6"/></bsdf>
+        </bsdf>
+    </shape>
+</scene>"#,
+    )
+    .unwrap();
+    let s = load_any(&xml).unwrap().scene;
+    let (_, m, _) = shape_of(&s, 0);
+    assert!(matches!(s.materials[m].bsdf, Some(BsdfDesc::Plastic { .. })));
+    let map = s.materials[m].normal_map.expect("a normal map");
+    let TextureDesc::Image { texels, .. } = &s.textures[map.texture] else { panic!() };
+    close(texels[0], Vec3::new(128.0, 128.0, 255.0) / 255.0);
+    assert_error(
+        r#"<shape type="sphere"><bsdf type="normalmap"><bsdf type="diffuse"/></bsdf></shape>"#,
+        2,
+        "normalmap",
+    );
+}

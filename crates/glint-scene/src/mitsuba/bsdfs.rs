@@ -4,7 +4,7 @@
 //! `distribution`: `beckmann` (its default) or `ggx`.
 
 use glam::Vec3;
-use glint_core::desc::{BsdfDesc, ColorParam, MaterialDesc, MicrofacetKind, ScalarParam};
+use glint_core::desc::{BsdfDesc, ColorParam, MaterialDesc, MicrofacetKind, NormalMapDesc, ScalarParam};
 
 use super::Reader;
 use super::tables::{conductor_names, ior_names, named_conductor, named_ior};
@@ -27,12 +27,20 @@ pub(super) struct Surface {
     pub base: ColorParam,
     /// The microfacet distribution of a rough plugin.
     pub microfacet: MicrofacetKind,
+    /// A `normalmap` wrapper's texture.
+    pub normal_map: Option<NormalMapDesc>,
 }
 
 /// Mitsuba's BSDF for shapes that name none: diffuse, reflectance 0.5, one-sided.
 pub(super) fn default_surface() -> Surface {
     let base = ColorParam::constant(Vec3::splat(0.5));
-    Surface { bsdf: BsdfDesc::Diffuse { reflectance: base }, two_sided: false, base, microfacet: MicrofacetKind::Ggx }
+    Surface {
+        bsdf: BsdfDesc::Diffuse { reflectance: base },
+        two_sided: false,
+        base,
+        microfacet: MicrofacetKind::Ggx,
+        normal_map: None,
+    }
 }
 
 /// The material index of BSDF element `e` (or a `<ref>` to one; `None`: the default
@@ -62,6 +70,7 @@ pub(super) fn material_desc(name: String, s: &Surface) -> MaterialDesc {
         bsdf: Some(s.bsdf),
         two_sided: s.two_sided,
         microfacet: s.microfacet,
+        normal_map: s.normal_map,
         ..MaterialDesc::default()
     }
 }
@@ -71,6 +80,7 @@ fn surface<'a>(r: &mut Reader<'a>, e: &'a Elem) -> Result<Surface, SceneError> {
     let p = Plugin::open(e)?;
     let mut s = match p.ty {
         "twosided" => two_sided(r, &p)?,
+        "normalmap" => normal_mapped(r, &p)?,
         "diffuse" => {
             let reflectance = color_param(r, &p, "reflectance", Vec3::splat(0.5))?;
             Surface {
@@ -78,6 +88,7 @@ fn surface<'a>(r: &mut Reader<'a>, e: &'a Elem) -> Result<Surface, SceneError> {
                 two_sided: false,
                 base: reflectance,
                 microfacet: MicrofacetKind::Ggx,
+                normal_map: None,
             }
         }
         "conductor" | "roughconductor" => conductor(r, &p)?,
@@ -86,7 +97,7 @@ fn surface<'a>(r: &mut Reader<'a>, e: &'a Elem) -> Result<Surface, SceneError> {
         other => {
             return Err(p.error(format!(
                 "BSDF type '{other}' is not supported; glint reads diffuse, conductor, roughconductor, dielectric, \
-                 roughdielectric, thindielectric, plastic, roughplastic and twosided"
+                 roughdielectric, thindielectric, plastic, roughplastic, twosided and normalmap"
             )));
         }
     };
@@ -118,6 +129,21 @@ fn two_sided<'a>(r: &mut Reader<'a>, p: &Plugin<'a>) -> Result<Surface, SceneErr
         [] => Err(p.error("needs one nested <bsdf>")),
         _ => Err(p.error("different BSDFs on the two sides are not supported; give one nested <bsdf>")),
     }
+}
+
+/// `normalmap` around one BSDF: its nested texture `normalmap` (give the bitmap
+/// `raw="true"`, as Mitsuba wants) bends the shading normal in the uv frame.
+fn normal_mapped<'a>(r: &mut Reader<'a>, p: &Plugin<'a>) -> Result<Surface, SceneError> {
+    if p.named_object("normalmap").is_none() {
+        return Err(p.error("needs a nested <texture name=\"normalmap\">"));
+    }
+    let texture = color_param(r, p, "normalmap", Vec3::ZERO)?.texture;
+    let inner = match p.objects("bsdf").as_slice() {
+        [inner] => r.resolve(inner, "bsdf")?,
+        _ => return Err(p.error("needs exactly one nested <bsdf>")),
+    };
+    let inner = surface(r, inner)?;
+    Ok(Surface { normal_map: texture.map(|texture| NormalMapDesc { texture, scale: 1.0 }), ..inner })
 }
 
 /// Roughness `alpha` of a rough plugin (0, a delta lobe, for the smooth ones).
@@ -163,6 +189,7 @@ fn conductor<'a>(r: &mut Reader<'a>, p: &Plugin<'a>) -> Result<Surface, SceneErr
         two_sided: false,
         base,
         microfacet: MicrofacetKind::Ggx,
+        normal_map: None,
     })
 }
 
@@ -190,7 +217,13 @@ fn dielectric<'a>(r: &mut Reader<'a>, p: &Plugin<'a>) -> Result<Surface, SceneEr
         let alpha = roughness(r, p)?;
         BsdfDesc::Dielectric { int_ior, ext_ior, reflectance, transmittance, alpha }
     };
-    Ok(Surface { bsdf, two_sided: true, base: ColorParam::constant(transmittance), microfacet: MicrofacetKind::Ggx })
+    Ok(Surface {
+        bsdf,
+        two_sided: true,
+        base: ColorParam::constant(transmittance),
+        microfacet: MicrofacetKind::Ggx,
+        normal_map: None,
+    })
 }
 
 /// A diffuse base under a dielectric coat.
@@ -202,5 +235,5 @@ fn plastic<'a>(r: &mut Reader<'a>, p: &Plugin<'a>) -> Result<Surface, SceneError
     let nonlinear = p.bool_or("nonlinear", false)?;
     let alpha = roughness(r, p)?;
     let bsdf = BsdfDesc::Plastic { diffuse, int_ior, ext_ior, specular, alpha, nonlinear };
-    Ok(Surface { bsdf, two_sided: false, base: diffuse, microfacet: MicrofacetKind::Ggx })
+    Ok(Surface { bsdf, two_sided: false, base: diffuse, microfacet: MicrofacetKind::Ggx, normal_map: None })
 }
