@@ -207,6 +207,7 @@ impl FuzzScene {
             textures: self.checker.iter().map(checker).collect(),
             objects,
             meshes: out.meshes,
+            views: Vec::new(),
         }
     }
 

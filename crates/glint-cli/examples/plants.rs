@@ -191,6 +191,7 @@ fn scene(plants: u32, width: u32, height: u32) -> SceneDesc {
         textures: vec![],
         meshes,
         objects,
+        views: vec![],
     }
 }
 

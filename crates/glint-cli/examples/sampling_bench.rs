@@ -26,6 +26,7 @@ fn scene() -> SceneDesc {
     let rot = |deg: f32| TransformOp::Rotate { axis: Vec3::new(0.3, 1.0, 0.2), degrees: deg };
     SceneDesc {
         meshes: vec![],
+        views: vec![],
         settings: RenderSettings {
             width: 320,
             height: 240,

@@ -246,6 +246,10 @@ struct RenderArgs {
     /// Seed of every random choice (jitter, lens, area light samples).
     #[arg(long)]
     seed: Option<u32>,
+    /// Which of the file's cameras looks, from 0 (a glTF model may hold several; the
+    /// first is the default).
+    #[arg(long, value_name = "N")]
+    camera: Option<usize>,
     /// Also write the number of samples each pixel took, as a greyscale image (white =
     /// the most), to see where adaptive sampling worked.
     #[arg(long, value_name = "PATH")]
@@ -770,7 +774,7 @@ fn apply_overrides(desc: &mut SceneDesc, args: &RenderArgs) -> Result<(), String
             }
             OverrideError::PathOnly(PathOnly::RrDepth) => "--rr-depth",
             OverrideError::PathOnly(PathOnly::Sampler) => "--sampler",
-            OverrideError::RrDepthZero => return e.to_string(),
+            OverrideError::RrDepthZero | OverrideError::NoSuchCamera { .. } => return e.to_string(),
         };
         format!("{flag} applies only to the path integrator; add --integrator path or render a path-traced scene")
     })
@@ -809,6 +813,7 @@ fn overrides(args: &RenderArgs) -> Overrides {
         filter_radius: args.filter_radius,
         adaptive: args.adaptive,
         seed: args.seed,
+        camera: args.camera,
     }
 }
 

@@ -31,6 +31,11 @@ pub struct SceneDesc {
     /// Triangle meshes, each stored once and placed by [`ShapeDesc::Mesh`] nodes.
     #[serde(default)]
     pub meshes: Vec<MeshDesc>,
+    /// Every camera the file holds, in its order, when it holds more than the one in
+    /// `camera` (the first): a glTF model's camera nodes. Picking another replaces
+    /// `camera` ([`crate::desc`] readers fill it; renderers look only at `camera`).
+    #[serde(default)]
+    pub views: Vec<CameraDesc>,
 }
 
 impl SceneDesc {

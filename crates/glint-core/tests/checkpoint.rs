@@ -41,6 +41,7 @@ fn scene(integrator: IntegratorDesc, adaptive: Option<AdaptiveDesc>) -> RenderSc
             node(ShapeDesc::Sphere, 1, vec![TransformOp::Translate(Vec3::new(1.2, 0.0, 0.5))]),
         ],
         meshes: vec![],
+        views: vec![],
     };
     let mut scene = compile(&desc).expect("valid scene");
     scene.settings.aovs = true;

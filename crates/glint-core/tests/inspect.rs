@@ -49,6 +49,7 @@ fn scene() -> RenderScene {
             ),
         ],
         meshes: vec![],
+        views: vec![],
     };
     compile(&desc).expect("valid scene")
 }

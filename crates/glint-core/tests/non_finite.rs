@@ -51,6 +51,7 @@ fn scene(texel: Vec3, integrator: IntegratorDesc) -> RenderScene {
             node(ShapeDesc::Sphere, 1, vec![]),
         ],
         meshes: vec![],
+        views: vec![],
     };
     compile(&desc).expect("valid scene")
 }

@@ -41,6 +41,7 @@ fn scene(integrator: IntegratorDesc, filter: FilterDesc, adaptive: Option<Adapti
             ),
         ],
         meshes: vec![],
+        views: vec![],
     };
     compile(&desc).expect("valid scene")
 }

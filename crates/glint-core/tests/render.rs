@@ -22,6 +22,7 @@ fn node(shape: ShapeDesc, material: usize, transform: Vec<TransformOp>) -> NodeD
 fn facing_plane(material: MaterialDesc, lights: Vec<LightDesc>, ambient: Vec3, background: Vec3) -> SceneDesc {
     SceneDesc {
         meshes: vec![],
+        views: vec![],
         settings: RenderSettings { width: 1, height: 1, background, ambient_light: ambient, ..Default::default() },
         camera: CameraDesc {
             eye: Vec3::new(0.0, 0.0, 5.0),
@@ -229,6 +230,7 @@ fn sphere_at_scale(material: MaterialDesc, scale: f32, offset: Vec3) -> SceneDes
     let background = Vec3::new(0.25, 0.5, 1.0);
     SceneDesc {
         meshes: vec![],
+        views: vec![],
         settings: RenderSettings {
             width: 48,
             height: 48,
@@ -290,6 +292,7 @@ fn no_shadow_acne_at_any_scale() {
         let m = MaterialDesc { diffuse: Vec3::ONE, ambient: Some(Vec3::ZERO), ..black() };
         let desc = SceneDesc {
             meshes: vec![],
+            views: vec![],
             settings: RenderSettings { width: 48, height: 48, ambient_light: Vec3::ZERO, ..Default::default() },
             camera: CameraDesc {
                 eye: offset + Vec3::new(0.0, 0.0, 4.0 * scale),
@@ -372,6 +375,7 @@ fn busy_scene() -> SceneDesc {
     objects.push(node(ShapeDesc::Plane, 2, vec![]));
     SceneDesc {
         meshes: vec![],
+        views: vec![],
         settings: RenderSettings { width: 96, height: 64, samples_per_axis: 2, ..Default::default() },
         camera: CameraDesc {
             eye: Vec3::new(0.0, 4.0, 9.0),

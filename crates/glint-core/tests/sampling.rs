@@ -53,6 +53,7 @@ fn shadow_scene(light_size: f32, occluder: bool) -> SceneDesc {
         materials: vec![matte(Vec3::ONE), matte(Vec3::ZERO)],
         textures: vec![],
         objects,
+        views: vec![],
     }
 }
 
@@ -105,6 +106,7 @@ fn defocus_scene(aperture: f32) -> SceneDesc {
             cells: glam::Vec2::splat(1.0),
         }],
         objects: vec![node(ShapeDesc::Plane, 0, vec![TransformOp::Rotate { axis: Vec3::X, degrees: 90.0 }])],
+        views: vec![],
     }
 }
 
@@ -155,6 +157,7 @@ fn edge_scene() -> SceneDesc {
         materials: vec![MaterialDesc { ambient: Some(Vec3::ONE), ..matte(Vec3::ONE) }],
         textures: vec![],
         objects: vec![node(ShapeDesc::Disk, 0, vec![TransformOp::Rotate { axis: Vec3::X, degrees: 90.0 }])],
+        views: vec![],
     }
 }
 

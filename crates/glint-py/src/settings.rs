@@ -82,6 +82,7 @@ impl RenderKwargs {
                 threshold,
             }),
             seed: self.seed,
+            camera: None,
         })
     }
 }
@@ -94,7 +95,9 @@ pub fn override_error(error: OverrideError) -> PyErr {
         }
         OverrideError::PathOnly(PathOnly::RrDepth) => "rr_depth",
         OverrideError::PathOnly(PathOnly::Sampler) => "sampler",
-        OverrideError::RrDepthZero => return PyValueError::new_err(error.to_string()),
+        OverrideError::RrDepthZero | OverrideError::NoSuchCamera { .. } => {
+            return PyValueError::new_err(error.to_string());
+        }
     };
     PyValueError::new_err(format!(
         "{setting} applies only to the path integrator; pass integrator=\"path\" or render a path-traced scene"

@@ -42,6 +42,8 @@ pub struct Overrides {
     pub adaptive: Option<AdaptiveDesc>,
     /// Seed of every random choice.
     pub seed: Option<u32>,
+    /// Which of the file's cameras ([`SceneDesc::views`]) looks, from 0.
+    pub camera: Option<usize>,
 }
 
 /// A setting that only the path integrator has, asked for while the Whitted one renders.
@@ -75,6 +77,9 @@ pub enum OverrideError {
     /// `rr_depth` 0: roulette starts at depth 1 at the earliest.
     #[error("rr_depth must be 1 or more")]
     RrDepthZero,
+    /// A camera index past the file's cameras.
+    #[error("camera {index} was asked for, but the scene has {count} camera{} (0 to {})", if *.count == 1 { "" } else { "s" }, .count - 1)]
+    NoSuchCamera { index: usize, count: usize },
 }
 
 impl Overrides {
@@ -87,6 +92,15 @@ impl Overrides {
     pub fn apply(&self, desc: &mut SceneDesc) -> Result<(), OverrideError> {
         if self.rr_depth == Some(0) {
             return Err(OverrideError::RrDepthZero);
+        }
+        if let Some(index) = self.camera {
+            // A file with one camera has no list of views: the camera is view 0.
+            let count = desc.views.len().max(1);
+            match desc.views.get(index) {
+                Some(view) => desc.camera = view.clone(),
+                None if index == 0 => {}
+                None => return Err(OverrideError::NoSuchCamera { index, count }),
+            }
         }
         let s = &mut desc.settings;
         s.width = self.width.unwrap_or(s.width);

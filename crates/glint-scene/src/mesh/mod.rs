@@ -64,8 +64,9 @@ pub struct MeshImport {
     /// Lights the file holds (glTF's punctual lights); without any, [`model_scene`]
     /// adds its own.
     pub lights: Vec<LightDesc>,
-    /// The file's camera, used instead of one fitted to the model.
-    pub camera: Option<CameraDesc>,
+    /// The file's cameras in order (the first one is used instead of one fitted to
+    /// the model; the others can be picked).
+    pub cameras: Vec<CameraDesc>,
     /// Width over height of the file's camera's image, if it says.
     pub aspect_ratio: Option<f32>,
     pub warnings: Vec<String>,
@@ -246,7 +247,7 @@ pub fn model_scene(import: MeshImport) -> SceneDesc {
     let fitted = CameraDesc { eye, look: center - eye, up: Vec3::Y, fov_y_degrees, ..Default::default() };
     let key = center + distance * Vec3::new(-0.6, 0.9, 0.8).normalize();
     let fill = center + distance * Vec3::new(1.0, 0.2, 0.3).normalize();
-    let MeshImport { meshes, mut materials, textures, placements, lights, camera, aspect_ratio, .. } = import;
+    let MeshImport { meshes, mut materials, textures, placements, lights, cameras, aspect_ratio, .. } = import;
     let lights = if lights.is_empty() {
         vec![
             LightDesc::Point { position: key, color: Vec3::splat(0.8), attenuation: Vec3::X },
@@ -256,10 +257,11 @@ pub fn model_scene(import: MeshImport) -> SceneDesc {
         lights
     };
     let mut settings = RenderSettings::default();
-    if let (Some(_), Some(aspect)) = (&camera, aspect_ratio) {
+    if let (Some(_), Some(aspect)) = (cameras.first(), aspect_ratio) {
         settings.height = ((settings.width as f32 / aspect).round() as u32).clamp(1, 16384);
     }
-    let camera = camera.unwrap_or(fitted);
+    let camera = cameras.first().cloned().unwrap_or(fitted);
+    let views = if cameras.len() > 1 { cameras } else { Vec::new() };
     let mut default_material = None;
     let objects = placements
         .into_iter()
@@ -280,7 +282,7 @@ pub fn model_scene(import: MeshImport) -> SceneDesc {
             }
         })
         .collect();
-    SceneDesc { settings, camera, lights, materials, textures, objects, meshes }
+    SceneDesc { settings, camera, lights, materials, textures, objects, meshes, views }
 }
 
 #[cfg(test)]

@@ -62,7 +62,6 @@ pub fn parse(path: &Path, bytes: Vec<u8>) -> Result<MeshImport, SceneError> {
         materials: HashMap::new(),
         textures: HashMap::new(),
         blue_means: HashMap::new(),
-        cameras_skipped: 0,
         skipped_modes: HashMap::new(),
     };
     let scene = doc.default_scene().or_else(|| doc.scenes().next());
@@ -283,7 +282,6 @@ struct State<'a> {
     /// Mean metallic (blue channel) of each metallic-roughness texture, by its index
     /// in `import.textures`.
     blue_means: HashMap<usize, f32>,
-    cameras_skipped: usize,
     /// Primitives of each mode glint does not draw (points, lines).
     skipped_modes: HashMap<&'static str, usize>,
 }
@@ -464,8 +462,9 @@ impl State<'_> {
         for (mode, count) in modes {
             self.warn(format!("skipped {count} primitives drawn as {mode} (glint draws triangles)"));
         }
-        if self.cameras_skipped > 0 {
-            self.warn(format!("the first camera is used; {} more are left out", self.cameras_skipped));
+        let count = self.import.cameras.len();
+        if count > 1 {
+            self.warn(format!("the first of {count} cameras is used; `--camera N` (0 to {}) picks another", count - 1));
         }
     }
 }

@@ -11,16 +11,12 @@ use glint_core::desc::{CameraDesc, LightDesc, SpotFalloff};
 use super::State;
 
 impl State<'_> {
-    /// Keeps the node's camera if it is the first perspective camera met.
+    /// Adds the node's camera to the file's cameras (perspective ones; the first is used).
     pub(super) fn camera(&mut self, camera: &gltf::Camera, world: Mat4) {
         let gltf::camera::Projection::Perspective(perspective) = camera.projection() else {
             self.warn(format!("camera {} is orthographic; glint frames the model with its own camera", camera.index()));
             return;
         };
-        if self.import.camera.is_some() {
-            self.cameras_skipped += 1;
-            return;
-        }
         let fov_y_degrees = perspective.yfov().to_degrees();
         if !(fov_y_degrees.is_finite() && fov_y_degrees > 0.0 && fov_y_degrees < 180.0) {
             self.warn(format!("camera {} has a view angle of {fov_y_degrees}°; it is left out", camera.index()));
@@ -29,8 +25,10 @@ impl State<'_> {
         let eye = world.transform_point3(Vec3::ZERO);
         let look = world.transform_vector3(Vec3::NEG_Z);
         let up = world.transform_vector3(Vec3::Y);
-        self.import.camera = Some(CameraDesc { eye, look, up, fov_y_degrees, ..Default::default() });
-        self.import.aspect_ratio = perspective.aspect_ratio().filter(|a| a.is_finite() && *a > 0.0);
+        self.import.cameras.push(CameraDesc { eye, look, up, fov_y_degrees, ..Default::default() });
+        if self.import.cameras.len() == 1 {
+            self.import.aspect_ratio = perspective.aspect_ratio().filter(|a| a.is_finite() && *a > 0.0);
+        }
     }
 
     /// Adds the node's light, placed and aimed by its transform.

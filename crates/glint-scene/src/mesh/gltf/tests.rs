@@ -246,8 +246,15 @@ fn the_files_lights_and_first_camera_are_used() {
 {"type":"spot","intensity":3,"spot":{"innerConeAngle":0.2,"outerConeAngle":0.5}}]}},
 "meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}]"#;
     let import = read(model.document(nodes)).unwrap();
-    assert!(import.warnings.iter().any(|w| w.contains("the first camera is used; 1 more")), "{:?}", import.warnings);
+    assert!(import.warnings.iter().any(|w| w.contains("the first of 2 cameras is used")), "{:?}", import.warnings);
     let scene = model_scene(import);
+    // The second camera can be picked; a third cannot.
+    let mut second = scene.clone();
+    let pick = |index| crate::overrides::Overrides { camera: Some(index), ..Default::default() };
+    pick(1).apply(&mut second).unwrap();
+    assert_eq!(second.camera.eye, Vec3::splat(9.0));
+    let e = pick(2).apply(&mut second.clone()).unwrap_err();
+    assert_eq!(e.to_string(), "camera 2 was asked for, but the scene has 2 cameras (0 to 1)");
     assert_eq!(scene.camera.eye, Vec3::new(0.0, 0.0, 5.0));
     assert!((scene.camera.look.normalize() - Vec3::NEG_Z).length() < 1e-6);
     assert!((scene.camera.fov_y_degrees - 0.8f32.to_degrees()).abs() < 1e-4);
