@@ -375,6 +375,11 @@ pub struct MaterialDesc {
     /// shading normal of meshes with uvs, under both integrators.
     #[serde(default)]
     pub normal_map: Option<NormalMapDesc>,
+    /// A texture (index into [`SceneDesc::textures`]) that multiplies `emission` over
+    /// the surface (a screen, a lit sign). Such surfaces are found by BSDF sampling
+    /// only, not by light sampling: exact, but noisier as lights.
+    #[serde(default)]
+    pub emission_texture: Option<usize>,
 }
 
 /// A normal map: texture [`SceneDesc::textures`]`[texture]`, stored linearly (not
@@ -414,6 +419,7 @@ impl Default for MaterialDesc {
             microfacet: MicrofacetKind::Ggx,
             casts_shadows: true,
             normal_map: None,
+            emission_texture: None,
         }
     }
 }

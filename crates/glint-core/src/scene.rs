@@ -167,6 +167,9 @@ pub fn compile(desc: &SceneDesc) -> Result<RenderScene, CompileError> {
             if texture.is_some_and(|i| i as usize >= textures.len()) {
                 return Err(invalid(&m.name, "texture index out of range"));
             }
+            if m.emission_texture.is_some_and(|t| t >= textures.len()) {
+                return Err(invalid(&m.name, "its emission texture index is out of range"));
+            }
             if m.normal_map.is_some_and(|n| n.texture >= textures.len() || !n.scale.is_finite()) {
                 return Err(invalid(&m.name, "its normal map names no texture, or its scale is not finite"));
             }

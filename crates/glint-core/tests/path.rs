@@ -261,3 +261,56 @@ fn invalid_physical_materials_are_compile_errors_not_panics() {
         assert!(compile(&desc).is_err());
     }
 }
+
+/// A room lit by a ceiling panel whose emission is `texture`d (a 1×1 image) or not:
+/// a textured emitter is found by BSDF sampling only, and must converge to the same
+/// light as the sampled one when its texture is white.
+fn room_with_panel(texel: Option<Vec3>) -> Image {
+    let mut panel = MaterialDesc { emission: Vec3::splat(4.0), two_sided: false, ..diffuse(0.0) };
+    let mut textures = vec![];
+    if let Some(texel) = texel {
+        textures.push(TextureDesc::Image {
+            name: "screen".into(),
+            path: String::new(),
+            width: 1,
+            height: 1,
+            texels: vec![texel],
+            sampling: ImageSampling::default(),
+        });
+        panel.emission_texture = Some(0);
+    }
+    let desc = SceneDesc {
+        settings: path_settings(16, 256, 3),
+        camera: camera(Vec3::new(0.0, 0.0, 2.9), Vec3::NEG_Z, 60.0),
+        materials: vec![diffuse(0.7), panel],
+        textures,
+        objects: vec![
+            node(ShapeDesc::Cube, 0, vec![TransformOp::Scale(Vec3::splat(3.0))]),
+            node(
+                ShapeDesc::Rectangle,
+                1,
+                vec![
+                    TransformOp::Rotate { axis: Vec3::X, degrees: 180.0 },
+                    TransformOp::Scale(Vec3::splat(2.0)),
+                    TransformOp::Translate(Vec3::new(0.0, 2.9, 0.0)),
+                ],
+            ),
+        ],
+        ..SceneDesc::default()
+    };
+    let scene = compile(&desc).unwrap();
+    assert_eq!(scene.emitters.len(), usize::from(texel.is_none()), "a textured emitter is not a sampled light");
+    render(&scene, &|_, _| {}, &AtomicBool::new(false)).unwrap().0
+}
+
+#[test]
+fn a_textured_emitter_lights_as_its_texture_says() {
+    let sampled = mean(room_with_panel(None).pixels.into_iter());
+    let white = mean(room_with_panel(Some(Vec3::ONE)).pixels.into_iter());
+    let half = mean(room_with_panel(Some(Vec3::new(0.5, 0.25, 1.0))).pixels.into_iter());
+    assert!(sampled.x > 0.05, "{sampled}");
+    assert!((white - sampled).abs().max_element() < 0.05 * sampled.max_element(), "{white} vs {sampled}");
+    // The walls reflect the panel's colour: each channel scales with the texel.
+    let ratio = half / white;
+    assert!((ratio - Vec3::new(0.5, 0.25, 1.0)).abs().max_element() < 0.05, "{ratio}");
+}

@@ -56,6 +56,7 @@ gpu_record!(pub BSDF = Bsdf as "Bsdf" {
     internal_reflectance: F32 => internal_reflectance,
     coat_transmittance: F32s(32) => coat_transmittance,
     emission: Vec3 => emission,
+    emission_texture: U32 => emission_texture,
 });
 
 gpu_record!(pub EMITTER = Emitter as "Emitter" {

@@ -75,6 +75,9 @@ light point { position [-1 1 2] color [0.5 0.5 0.5] }
 light directional { direction [1 -1 -1] color [0.3 0.3 0.3] }
 light environment { radiance [0.2 0.25 0.3] }
 sphere { material "white" scale 0.35 translate [0.3 0.35 0] }
+texture "screen" checker { even [1 0.9 0.2] odd [0.1 0.3 1] cells [3 2] }
+material "sign" { bsdf diffuse { reflectance 0.2 } emission [3 3 3] emission_texture "screen" }
+rectangle { material "sign" scale [0.4 1 0.25] rotate [1 0 0] 90 translate [-0.3 1.2 -1.2] }
 "#;
 
 fn with_ball(scene: &str) -> String {

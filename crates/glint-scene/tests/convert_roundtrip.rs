@@ -214,6 +214,7 @@ fn everything(texture: &Path) -> SceneDesc {
             microfacet: glint_core::desc::MicrofacetKind::Beckmann,
             casts_shadows: false,
             normal_map: Some(glint_core::desc::NormalMapDesc { texture: 0, scale: 0.75 }),
+            emission_texture: Some(0),
         },
         MaterialDesc { name: "plain".into(), texture: Some(0), diffuse: Vec3::splat(0.5), ..MaterialDesc::default() },
         MaterialDesc { name: String::new(), ..MaterialDesc::default() },

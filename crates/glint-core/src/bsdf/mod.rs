@@ -87,6 +87,8 @@ pub struct Bsdf {
     pub coat_transmittance: [f32; coat::COAT_TABLE],
     /// Radiance the surface emits from its front side (area light).
     pub emission: Vec3,
+    /// Texture multiplying `emission`, or [`NO_TEXTURE`].
+    pub emission_texture: u32,
 }
 
 impl Bsdf {
@@ -114,6 +116,7 @@ impl Bsdf {
             internal_reflectance: 0.0,
             coat_transmittance: [1.0; coat::COAT_TABLE],
             emission: desc.emission,
+            emission_texture: tex(desc.emission_texture),
         };
         let Some(bsdf) = desc.bsdf else {
             return phong::from_phong(desc, base);

@@ -5,6 +5,7 @@ use std::f32::consts::PI;
 
 use super::{Emitter, EmitterKind, NO_EMITTER};
 use crate::bsdf::{Bsdf, EMITS_BOTH_SIDES};
+use crate::material::NO_TEXTURE;
 use crate::mesh::Mesh;
 use crate::scene::{Instance, NO_MOTION};
 use crate::shape::ShapeKind;
@@ -19,7 +20,8 @@ pub fn emitters_of_instances(instances: &[Instance], meshes: &[Mesh], bsdfs: &[B
     for inst in instances {
         let bsdf = &bsdfs[inst.material as usize];
         let start = emitters.len() as u32;
-        let placed = bsdf.is_emissive() && inst.motion == NO_MOTION && {
+        // Moving and textured emitters are left to BSDF sampling.
+        let placed = bsdf.is_emissive() && inst.motion == NO_MOTION && bsdf.emission_texture == NO_TEXTURE && {
             let before = emitters.len();
             push_instance(inst, meshes, bsdf.emission, &mut emitters);
             let two_sided = (bsdf.flags & EMITS_BOTH_SIDES != 0) as u32;

@@ -15,6 +15,7 @@ use crate::bsdf::SurfaceBsdf;
 use crate::desc::PathDesc;
 use crate::emitter::{EmitterKind, LightSample};
 use crate::film::Aov;
+use crate::material::NO_TEXTURE;
 use crate::math::{Ray, offset_ray_origin};
 use crate::sampling::PathSampler;
 use crate::scene::{Hit, RenderScene};
@@ -193,7 +194,12 @@ fn emitted(scene: &RenderScene, hit: &Hit, bsdf: &SurfaceBsdf<'_>, wo: Vec3, pre
         },
         _ => 1.0,
     };
-    record.emission * weight
+    let texel = if record.emission_texture == NO_TEXTURE {
+        Vec3::ONE
+    } else {
+        scene.texture(record.emission_texture, hit.uv * record.uv_repeat)
+    };
+    record.emission * texel * weight
 }
 
 /// Radiance from the environment along a ray that left the scene, MIS-weighted.

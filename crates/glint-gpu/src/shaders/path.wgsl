@@ -49,9 +49,13 @@ fn light_probability(index: u32) -> f32 {
 
 fn emitted(hit: Hit, bsdf_index: u32, wo: vec3<f32>, previous: Bounce) -> vec3<f32> {
     let r = bsdfs[bsdf_index];
-    let emission = v3(r.emission);
+    var emission = v3(r.emission);
     if !(max3(emission) > 0.0) {
         return vec3<f32>(0.0);
+    }
+    // A textured emitter is not among the sampled lights (weight 1 below).
+    if r.emission_texture != NO_TEXTURE {
+        emission *= texture_sample(r.emission_texture, hit.uv * v2(r.uv_repeat));
     }
     let front = dot(hit.geometric_normal, wo) > 0.0;
     if !front && (r.flags & EMITS_BOTH_SIDES) == 0u {

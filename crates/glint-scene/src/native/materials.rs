@@ -13,7 +13,7 @@ use crate::texture_io;
 /// The texture types, in the order the documentation lists them.
 pub const TEXTURE_KINDS: [&str; 2] = ["checker", "image"];
 
-const MATERIAL_PROPERTIES: [&str; 21] = [
+const MATERIAL_PROPERTIES: [&str; 22] = [
     "diffuse",
     "specular",
     "shininess",
@@ -35,6 +35,7 @@ const MATERIAL_PROPERTIES: [&str; 21] = [
     "casts_shadows",
     "normal_map",
     "normal_scale",
+    "emission_texture",
 ];
 
 /// Builds a material; unset properties keep [`MaterialDesc::default`].
@@ -83,6 +84,11 @@ pub fn material(src: &Source, node: &Node, name: &str, textures: &Registry) -> R
                 m.normal_map = Some(NormalMapDesc { texture: textures.lookup(src, pos, "texture", &texture)?, scale });
             }
             "normal_scale" => normal_scale = Some((args::number(src, prop)?, prop)),
+            "emission_texture" => {
+                args::no_block(src, prop)?;
+                let (texture, pos) = args::string(src, prop, "a texture name")?;
+                m.emission_texture = Some(textures.lookup(src, pos, "texture", &texture)?);
+            }
             _ => {
                 return Err(args::unknown(src, prop, "property", "in 'material'", &MATERIAL_PROPERTIES));
             }

@@ -378,6 +378,12 @@ impl Writer {
                 num(map.scale, &what("normal_scale"))?
             ));
         }
+        if let Some(texture) = m.emission_texture {
+            let Some(texture_name) = textures.get(texture) else {
+                return fail(format!("material '{name}' has emission texture {texture}, which the scene lacks"));
+            };
+            lines.push(format!("emission_texture {}", quote(texture_name)));
+        }
         self.line(0, &format!("material {} {{", quote(name)));
         for l in &lines {
             self.line(1, l);
@@ -407,6 +413,7 @@ impl Writer {
             microfacet: defaults.microfacet,
             casts_shadows: defaults.casts_shadows,
             normal_map: defaults.normal_map,
+            emission_texture: defaults.emission_texture,
             ..m.clone()
         };
         if rest != defaults {

@@ -44,6 +44,7 @@ struct Pbr {
     ior: f32,
     transmission: f32,
     emission: Vec3,
+    emission_texture: Option<usize>,
 }
 
 impl State<'_> {
@@ -61,7 +62,8 @@ impl State<'_> {
         } else {
             bsdf_of(&pbr)
         });
-        desc.emission = if material.unlit() { pbr.base.value } else { pbr.emission };
+        (desc.emission, desc.emission_texture) =
+            if material.unlit() { (pbr.base.value, pbr.base.texture) } else { (pbr.emission, pbr.emission_texture) };
         desc.two_sided = material.double_sided();
         if let Some(normal) = material.normal_texture()
             && let Some(texture) = self.texture(&normal.texture(), Texels::Data)?
@@ -96,14 +98,11 @@ impl State<'_> {
             ));
         }
         let strength = material.emissive_strength().unwrap_or(1.0);
-        let mut emission = Vec3::from(material.emissive_factor()) * strength;
-        if let Some(info) = material.emissive_texture() {
-            // Emission is one colour a material: the texture's mean stands for it.
-            if let Some(t) = self.texture(&info.texture(), Texels::Color)? {
-                emission *= mean_texel(&self.import.textures[t]);
-                self.warn(format!("material '{name}': its emissive texture is averaged to one colour"));
-            }
-        }
+        let emission = Vec3::from(material.emissive_factor()) * strength;
+        let emission_texture = match material.emissive_texture() {
+            Some(info) => self.texture(&info.texture(), Texels::Color)?,
+            None => None,
+        };
         Ok(Pbr {
             base: ColorParam { value: Vec3::new(r, g, b), texture: base_texture },
             metallic,
@@ -112,6 +111,7 @@ impl State<'_> {
             ior: material.ior().unwrap_or(1.5),
             transmission: material.transmission().map_or(0.0, |t| t.transmission_factor()),
             emission,
+            emission_texture,
         })
     }
 
@@ -212,13 +212,6 @@ fn alpha_from_green(desc: &mut TextureDesc) -> f32 {
         *t = Vec3::splat(t.y * t.y);
     }
     (blue / texels.len().max(1) as f64) as f32
-}
-
-fn mean_texel(desc: &TextureDesc) -> Vec3 {
-    match desc {
-        TextureDesc::Image { texels, .. } => texels.iter().copied().sum::<Vec3>() / texels.len().max(1) as f32,
-        TextureDesc::Checker { even, odd, .. } => 0.5 * (*even + *odd),
-    }
 }
 
 /// The path tracer's BSDF: glass, metal or plastic, whichever the material is nearest.

@@ -298,6 +298,27 @@ fn an_undecodable_image_is_a_warning_and_a_required_extension_one_sentence() {
 }
 
 #[test]
+fn an_emissive_texture_textures_the_emission() {
+    let mut model = Model::default();
+    square(&mut model);
+    model.floats(&[0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0], "VEC2", 4, "");
+    let mut png = Vec::new();
+    let image = image::RgbImage::from_raw(1, 1, vec![255, 128, 0]).unwrap();
+    image.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png).unwrap();
+    let more = format!(
+        r#","materials":[{{"emissiveFactor":[1,1,0.5],"emissiveTexture":{{"index":0}}}}],
+"textures":[{{"source":0}}],"images":[{{"uri":"data:image/png;base64,{}"}}]"#,
+        base64(&png)
+    );
+    let primitive = r#"{"attributes":{"POSITION":0,"TEXCOORD_0":1},"material":0}"#;
+    let import = read(model.document(&one_primitive(primitive, &more))).unwrap();
+    let m = &import.materials[0];
+    assert_eq!(m.emission, Vec3::new(1.0, 1.0, 0.5));
+    let TextureDesc::Image { texels, .. } = &import.textures[m.emission_texture.expect("textured")] else { panic!() };
+    assert_eq!(texels[0].x, 1.0, "an sRGB colour texture, decoded: {}", texels[0]);
+}
+
+#[test]
 fn a_normal_texture_is_a_normal_map_read_as_data() {
     let mut model = Model::default();
     square(&mut model);
