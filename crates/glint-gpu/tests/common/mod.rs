@@ -38,31 +38,36 @@ pub fn scene_as_written(source: &str, width: u32, height: u32) -> RenderScene {
     compile(&desc).expect("scene compiles")
 }
 
-/// A native scene from source whose meshes get vertex colours from their positions
-/// (`|p|` clamped to 1, so each octant shows another tint).
-pub fn painted_scene(source: &str, width: u32, height: u32, spp: Option<u32>) -> RenderScene {
+/// A native scene from source at the given size (and samples, if given), each of whose
+/// meshes `decorate` changes before it is compiled.
+fn decorated_scene(
+    source: &str,
+    (width, height, spp): (u32, u32, Option<u32>),
+    decorate: impl Fn(&mut glint_core::desc::MeshDesc),
+) -> RenderScene {
     let mut desc = glint_scene::parse_scene(source, "test.glint", Path::new(".")).expect("scene parses");
     desc.settings.width = width;
     desc.settings.height = height;
     desc.settings.spp = spp.or(desc.settings.spp);
-    for mesh in &mut desc.meshes {
-        mesh.colors = mesh.positions.iter().map(|p| p.abs().min(glam::Vec3::ONE)).collect();
-    }
+    desc.meshes.iter_mut().for_each(decorate);
     compile(&desc).expect("scene compiles")
+}
+
+/// A native scene from source whose meshes get vertex colours from their positions
+/// (`|p|` clamped to 1, so each octant shows another tint).
+pub fn painted_scene(source: &str, width: u32, height: u32, spp: Option<u32>) -> RenderScene {
+    decorated_scene(source, (width, height, spp), |mesh| {
+        mesh.colors = mesh.positions.iter().map(|p| p.abs().min(glam::Vec3::ONE)).collect();
+    })
 }
 
 /// A native scene from source whose meshes get uvs from their positions (longitude and
 /// height), so that normal maps have a frame to bend normals in.
 pub fn uv_mapped_scene(source: &str, width: u32, height: u32, spp: Option<u32>) -> RenderScene {
-    let mut desc = glint_scene::parse_scene(source, "test.glint", Path::new(".")).expect("scene parses");
-    desc.settings.width = width;
-    desc.settings.height = height;
-    desc.settings.spp = spp.or(desc.settings.spp);
-    for mesh in &mut desc.meshes {
+    decorated_scene(source, (width, height, spp), |mesh| {
         let uv = |p: &glam::Vec3| glam::Vec2::new(p.z.atan2(p.x) / std::f32::consts::TAU + 0.5, 0.5 + 0.5 * p.y);
         mesh.uvs = mesh.positions.iter().map(uv).collect();
-    }
-    compile(&desc).expect("scene compiles")
+    })
 }
 
 /// A scene file of the repository.

@@ -4,14 +4,15 @@ use glam::{Vec2, Vec3};
 
 use super::*;
 
-/// A fresh folder for one test's files.
-fn folder(test: &str) -> PathBuf {
+/// A fresh folder for one test's files (the mesh tests' names are all different).
+pub(super) fn folder(test: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("glint-mesh-{}-{test}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
 
-fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
+/// Writes a test file into `dir`.
+pub(super) fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
     let path = dir.join(name);
     std::fs::write(&path, bytes).unwrap();
     path

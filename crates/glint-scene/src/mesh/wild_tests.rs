@@ -2,24 +2,11 @@
 //! ends, either byte order, attributes under their many names, Latin-1 text, Windows
 //! texture paths, missing attributes and Git LFS pointers.
 
-use std::path::{Path, PathBuf};
-
 use glam::{Vec2, Vec3};
 
 use super::polygon::triangulate;
+use super::tests::{folder, write};
 use super::*;
-
-fn folder(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("glint-wild-{}-{test}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
-    let path = dir.join(name);
-    std::fs::write(&path, bytes).unwrap();
-    path
-}
 
 /// Twice the signed area of a 2-D polygon (shoelace formula).
 fn area2(points: &[Vec2]) -> f32 {

@@ -297,21 +297,26 @@ fn an_undecodable_image_is_a_warning_and_a_required_extension_one_sentence() {
     assert!(e.message.contains("material"), "{e}");
 }
 
-#[test]
-fn an_emissive_texture_textures_the_emission() {
+/// The textured square with one material (`material`, JSON, naming texture 0) whose
+/// texture is a 1×1 PNG of `rgb`.
+fn with_texture(material: &str, rgb: [u8; 3]) -> MeshImport {
     let mut model = Model::default();
     square(&mut model);
     model.floats(&[0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0], "VEC2", 4, "");
     let mut png = Vec::new();
-    let image = image::RgbImage::from_raw(1, 1, vec![255, 128, 0]).unwrap();
+    let image = image::RgbImage::from_raw(1, 1, rgb.to_vec()).unwrap();
     image.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png).unwrap();
     let more = format!(
-        r#","materials":[{{"emissiveFactor":[1,1,0.5],"emissiveTexture":{{"index":0}}}}],
-"textures":[{{"source":0}}],"images":[{{"uri":"data:image/png;base64,{}"}}]"#,
+        r#","materials":[{material}],"textures":[{{"source":0}}],"images":[{{"uri":"data:image/png;base64,{}"}}]"#,
         base64(&png)
     );
     let primitive = r#"{"attributes":{"POSITION":0,"TEXCOORD_0":1},"material":0}"#;
-    let import = read(model.document(&one_primitive(primitive, &more))).unwrap();
+    read(model.document(&one_primitive(primitive, &more))).unwrap()
+}
+
+#[test]
+fn an_emissive_texture_textures_the_emission() {
+    let import = with_texture(r#"{"emissiveFactor":[1,1,0.5],"emissiveTexture":{"index":0}}"#, [255, 128, 0]);
     let m = &import.materials[0];
     assert_eq!(m.emission, Vec3::new(1.0, 1.0, 0.5));
     let TextureDesc::Image { texels, .. } = &import.textures[m.emission_texture.expect("textured")] else { panic!() };
@@ -320,19 +325,7 @@ fn an_emissive_texture_textures_the_emission() {
 
 #[test]
 fn a_normal_texture_is_a_normal_map_read_as_data() {
-    let mut model = Model::default();
-    square(&mut model);
-    model.floats(&[0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0], "VEC2", 4, "");
-    let mut png = Vec::new();
-    let image = image::RgbImage::from_raw(1, 1, vec![128, 128, 255]).unwrap();
-    image.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png).unwrap();
-    let more = format!(
-        r#","materials":[{{"normalTexture":{{"index":0,"scale":0.7}}}}],
-"textures":[{{"source":0}}],"images":[{{"uri":"data:image/png;base64,{}"}}]"#,
-        base64(&png)
-    );
-    let primitive = r#"{"attributes":{"POSITION":0,"TEXCOORD_0":1},"material":0}"#;
-    let import = read(model.document(&one_primitive(primitive, &more))).unwrap();
+    let import = with_texture(r#"{"normalTexture":{"index":0,"scale":0.7}}"#, [128, 128, 255]);
     let normal_map = import.materials[0].normal_map.expect("a normal map");
     assert_eq!(normal_map.scale, 0.7);
     let TextureDesc::Image { texels, .. } = &import.textures[normal_map.texture] else { panic!() };
