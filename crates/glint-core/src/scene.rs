@@ -9,7 +9,9 @@ use crate::accel::lanes::{Lanes, Portable};
 use crate::accel::{Bvh, Order, WideBvh};
 use crate::bsdf::Bsdf;
 use crate::camera::Camera;
-use crate::desc::{AdaptiveDesc, Features, IntegratorDesc, NodeDesc, NodeKind, SceneDesc, ShapeDesc, TransformOp};
+use crate::desc::{
+    AdaptiveDesc, Features, IntegratorDesc, NodeDesc, NodeKind, SceneDesc, ShapeDesc, TextureDesc, TransformOp,
+};
 use crate::emitter::{Emitter, Environment};
 use crate::light::Light;
 use crate::material::{Material, NO_TEXTURE};
@@ -84,6 +86,8 @@ pub struct RenderScene {
     pub texels: Vec<Vec3>,
     /// True when some material lets light through, so shadow rays must look past hits.
     pub has_transmissive: bool,
+    /// True when some material casts no shadow, so shadow rays check each instance's.
+    pub has_shadowless: bool,
     /// The physically based reading of each material (same index), with its emission.
     pub bsdfs: Vec<Bsdf>,
     /// Everything the path tracer samples light from: area emitters, point, spot and
@@ -157,6 +161,14 @@ pub fn compile(desc: &SceneDesc) -> Result<RenderScene, CompileError> {
             )
         })?;
 
+    for t in &desc.textures {
+        if let TextureDesc::Image { name, width, height, texels, .. } = t
+            && (*width == 0 || *height == 0 || texels.len() as u64 != u64::from(*width) * u64::from(*height))
+        {
+            let message = format!("image texture of {width}×{height} texels holds {} of them", texels.len());
+            return Err(invalid(name, message));
+        }
+    }
     let mut texels = Vec::new();
     let textures: Vec<Texture> = desc.textures.iter().map(|t| Texture::compile(t, &mut texels)).collect();
     let materials: Vec<Material> = desc
@@ -225,6 +237,7 @@ pub fn compile(desc: &SceneDesc) -> Result<RenderScene, CompileError> {
         validate_bsdf(m, desc.textures.len())?;
     }
     let bsdfs: Vec<Bsdf> = desc.materials.iter().map(Bsdf::compile).collect();
+    let has_shadowless = desc.materials.iter().any(|m| !m.casts_shadows);
     let lighting = lighting::compile(desc, &instances, &meshes, &bsdfs, bvh.bounds())?;
     Ok(RenderScene {
         settings,
@@ -240,6 +253,7 @@ pub fn compile(desc: &SceneDesc) -> Result<RenderScene, CompileError> {
         textures,
         texels,
         has_transmissive,
+        has_shadowless,
         bsdfs,
         emitters: lighting.emitters,
         instance_emitters: lighting.instance_emitters,
@@ -635,6 +649,9 @@ impl RenderScene {
     /// Whether instance `index` lets shadow rays through (its material casts no shadow).
     #[inline]
     fn casts_no_shadow(&self, index: u32) -> bool {
+        if !self.has_shadowless {
+            return false;
+        }
         let material = self.instances[index as usize].material as usize;
         self.bsdfs.get(material).is_some_and(|b| b.flags & crate::bsdf::CASTS_NO_SHADOW != 0)
     }

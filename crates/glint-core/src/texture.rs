@@ -98,11 +98,17 @@ impl Texture {
     }
 
     /// Bilinear (or nearest) filtering, wrapped as the flags say; v = 1 is the image's
-    /// top row. A repeating axis is reduced to [0, 1) first, so huge uvs keep precision.
+    /// top row.
     fn image(&self, uv: Vec2, texels: &[Vec3]) -> Vec3 {
         let (w, h) = (self.width as i64, self.height as i64);
         let (wrap_u, wrap_v) = (self.flags & WRAP_MASK, self.flags >> WRAP_V_SHIFT & WRAP_MASK);
-        let reduce = |t: f32, mode: u32| if mode == TextureWrap::Repeat as u32 { t.rem_euclid(1.0) } else { t };
+        // Each axis is reduced first, so huge uvs keep precision and never overflow the
+        // texel index: repeat to [0, 1), mirror to [0, 2), clamp to [−1, 2].
+        let reduce = |t: f32, mode: u32| match mode {
+            m if m == TextureWrap::Clamp as u32 => t.clamp(-1.0, 2.0),
+            m if m == TextureWrap::Mirror as u32 => t.rem_euclid(2.0),
+            _ => t.rem_euclid(1.0),
+        };
         let x = reduce(uv.x, wrap_u) * w as f32;
         let y = (1.0 - reduce(uv.y, wrap_v)) * h as f32;
         let texel = |i: i64, j: i64| {
@@ -184,6 +190,25 @@ mod tests {
         };
         assert!(edge(TextureWrap::Repeat).x > 0.4);
         assert_eq!(edge(TextureWrap::Clamp), Vec3::Z);
+    }
+
+    #[test]
+    fn huge_and_odd_uvs_wrap_without_overflow() {
+        for wrap in [TextureWrap::Repeat, TextureWrap::Clamp, TextureWrap::Mirror] {
+            for nearest in [false, true] {
+                let (t, texels) = red_blue(ImageSampling { wrap: [wrap; 2], nearest });
+                for u in [1e30, -1e30, f32::MAX, f32::MIN, 3.0e9] {
+                    let c = t.sample(Vec2::new(u, 0.5), &texels);
+                    assert!(c.is_finite() && c.max_element() <= 1.0, "{wrap:?} at {u}: {c}");
+                }
+                // A NaN uv gives a NaN colour (reported as a non-finite sample), not a panic.
+                t.sample(Vec2::splat(f32::NAN), &texels);
+            }
+        }
+        // Far out, a clamped axis shows its edge texel.
+        let (t, texels) = red_blue(ImageSampling { wrap: [TextureWrap::Clamp; 2], nearest: false });
+        assert_eq!(t.sample(Vec2::new(1e30, 0.5), &texels), Vec3::Z);
+        assert_eq!(t.sample(Vec2::new(-1e30, 0.5), &texels), Vec3::X);
     }
 
     #[test]

@@ -296,3 +296,18 @@ fn a_normal_map_bends_the_shading_normal_in_the_uv_frame() {
     let mirrored = normal(Vec3::new(0.5, 1.0, 0.5), true);
     assert!((mirrored - Vec3::X).length() < 1e-5, "{mirrored}");
 }
+
+#[test]
+fn an_image_texture_whose_texels_do_not_fill_it_is_a_compile_error() {
+    let mut desc = base();
+    desc.textures.push(TextureDesc::Image {
+        name: "short".into(),
+        path: String::new(),
+        width: 4,
+        height: 4,
+        texels: vec![Vec3::ONE; 15],
+        sampling: Default::default(),
+    });
+    let e = compile(&desc).unwrap_err().to_string();
+    assert!(e.contains("short") && e.contains("4×4") && e.contains("15"), "{e}");
+}

@@ -48,9 +48,16 @@ fn rem1(x: f32) -> f32 {
     return x - floor(x);
 }
 
-// A repeating axis is reduced to [0, 1) first, as on the CPU.
+// Each axis is reduced first, as on the CPU: repeat to [0, 1), mirror to [0, 2),
+// clamp to [−1, 2], so huge uvs keep precision and never overflow the texel index.
 fn reduce_uv(x: f32, mode: u32) -> f32 {
-    return select(x, rem1(x), mode == WRAP_REPEAT);
+    if mode == WRAP_CLAMP {
+        return clamp(x, -1.0, 2.0);
+    }
+    if mode == WRAP_MIRROR {
+        return x - 2.0 * floor(x / 2.0);
+    }
+    return rem1(x);
 }
 
 fn texture_sample(index: u32, uv: vec2<f32>) -> vec3<f32> {

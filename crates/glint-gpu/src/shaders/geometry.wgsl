@@ -841,10 +841,11 @@ fn hit_from(r: Ray, found: SceneHit) -> Hit {
         let u1 = vec2<f32>(floats[mesh.uv_offset + 2u * i1], floats[mesh.uv_offset + 2u * i1 + 1u]);
         let u2 = vec2<f32>(floats[mesh.uv_offset + 2u * i2], floats[mesh.uv_offset + 2u * i2 + 1u]);
         uv = bary.x * u0 + bary.y * u1 + bary.z * u2;
+        // The frame costs a division: only a normal-mapped material needs it.
         let du1 = u1 - u0;
         let du2 = u2 - u0;
         let det = du1.x * du2.y - du1.y * du2.x;
-        if abs(det) >= 1e-12 {
+        if materials[hit.material].normal_texture != NO_TEXTURE && abs(det) >= 1e-12 {
             dpdu = ((b - a) * du2.y - (c - a) * du1.y) / det;
             dpdv = ((c - a) * du1.x - (b - a) * du2.x) / det;
             has_uv_frame = true;

@@ -511,12 +511,13 @@ struct UvTransform {
 impl UvTransform {
     const IDENTITY: UvTransform = UvTransform { offset: Vec2::ZERO, rotation: 0.0, scale: Vec2::ONE };
 
-    /// The transformed uv, in glTF's convention (v down the image): the extension's
-    /// matrix `T·R·S`, its rotation `[cos −sin; sin cos]`.
+    /// The transformed uv, in glTF's convention (v down the image): `T·R·S`, with the
+    /// rotation `[cos sin; −sin cos]` that the sample model, Blender and Babylon use
+    /// (the extension's GLSL listing has it transposed: KhronosGroup/glTF#1563).
     fn apply(&self, uv: Vec2) -> Vec2 {
         let s = uv * self.scale;
         let (sin, cos) = self.rotation.sin_cos();
-        Vec2::new(cos * s.x - sin * s.y, sin * s.x + cos * s.y) + self.offset
+        Vec2::new(cos * s.x + sin * s.y, -sin * s.x + cos * s.y) + self.offset
     }
 }
 

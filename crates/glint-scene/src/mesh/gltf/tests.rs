@@ -185,10 +185,11 @@ fn a_texture_transform_is_baked_into_the_uvs() {
     // Corner (1, 1): scaled to (2, 3), offset to (2.5, 3.25), v flipped to −2.25.
     let corner = moved.meshes[0].uvs[2];
     assert!((corner - Vec2::new(2.5, -2.25)).length() < 1e-6, "{corner}");
-    // A quarter turn takes u = 1 to v = 1 (the extension's matrix [cos −sin; sin cos]).
+    // A quarter turn takes glTF's (1, 0) to (0, −1), counter-clockwise in a v-down
+    // space (KhronosGroup/glTF#1563): glint's v = 1 − (−1) = 2.
     let turned = textured_square(r#","extensions":{"KHR_texture_transform":{"rotation":1.5707964}}"#);
     let u_corner = turned.meshes[0].uvs[1];
-    assert!((u_corner - Vec2::new(0.0, 0.0)).length() < 1e-6, "{u_corner}");
+    assert!((u_corner - Vec2::new(0.0, 2.0)).length() < 1e-6, "{u_corner}");
 }
 
 /// The square with one material (`material`, JSON) and the extensions it uses.
