@@ -290,11 +290,19 @@ fn validate_bsdf(m: &crate::desc::MaterialDesc, texture_count: usize) -> Result<
                 && colour(specular)
                 && alpha_ok(alpha)
         }
+        Some(BsdfDesc::MetallicRoughness { base, metallic, alpha, ior }) => {
+            colour(base.value)
+                && texture_ok(base.texture)
+                && (0.0..=1.0).contains(&metallic.value)
+                && texture_ok(metallic.texture)
+                && alpha_ok(alpha)
+                && ior_ok(ior, 1.0)
+        }
     };
     if !valid {
         return Err(invalid(
             &m.name,
-            "BSDF values must be finite, colours and roughness >= 0, indices of refraction > 0, and textures must exist",
+            "BSDF values must be finite, colours and roughness >= 0, metallic in [0, 1], indices of refraction > 0, and textures must exist",
         ));
     }
     if !colour(m.emission) {

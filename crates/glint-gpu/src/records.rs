@@ -57,6 +57,8 @@ gpu_record!(pub BSDF = Bsdf as "Bsdf" {
     coat_transmittance: F32s(32) => coat_transmittance,
     emission: Vec3 => emission,
     emission_texture: U32 => emission_texture,
+    metallic: F32 => metallic,
+    metallic_texture: U32 => metallic_texture,
 });
 
 gpu_record!(pub EMITTER = Emitter as "Emitter" {

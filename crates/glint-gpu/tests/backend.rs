@@ -49,6 +49,10 @@ material "plastic" { bsdf plastic { diffuse [0.1 0.5 0.2] } }
 material "rough_plastic" { bsdf plastic { texture "checks" roughness 0.15 nonlinear true } }
 material "textured" { bsdf diffuse { texture "checks" } }
 material "phong" { diffuse [0.6 0.3 0.2] specular 0.3 shininess 40 reflective 0.2 }
+material "paint" { bsdf metallic_roughness { base [0.8 0.3 0.1] metallic 0.4 roughness 0.2 } }
+material "mottled" { bsdf metallic_roughness { texture "checks" metallic_texture "checks" } }
+sphere { material "paint" scale 0.25 translate [-0.9 1.7 0] }
+sphere { material "mottled" scale 0.25 translate [0.9 1.7 0] }
 sphere { material "smooth_metal" scale 0.3 translate [-1.2 0.3 0] }
 sphere { material "rough_metal" scale 0.3 translate [-0.6 0.3 0] }
 sphere { material "beckmann" scale 0.3 translate [0 0.3 0] }

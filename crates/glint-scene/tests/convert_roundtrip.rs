@@ -262,6 +262,16 @@ fn everything(texture: &Path) -> SceneDesc {
             bsdf: Some(BsdfDesc::Diffuse { reflectance: ColorParam { value: Vec3::ONE, texture: Some(0) } }),
             ..MaterialDesc::default()
         },
+        MaterialDesc {
+            name: "car paint".into(),
+            bsdf: Some(BsdfDesc::MetallicRoughness {
+                base: ColorParam { value: Vec3::new(0.8, 0.1, 0.05), texture: Some(0) },
+                metallic: ScalarParam { value: 0.35, texture: Some(1) },
+                alpha: ScalarParam { value: 0.2, texture: Some(1) },
+                ior: 1.45,
+            }),
+            ..MaterialDesc::default()
+        },
     ];
     let leaf = |shape, material, transform| NodeDesc {
         transform,
@@ -295,6 +305,7 @@ fn everything(texture: &Path) -> SceneDesc {
                         leaf(ShapeDesc::Cube, 6, vec![TransformOp::Scale(Vec3::new(1.0, 0.01, 1.0))]),
                         leaf(ShapeDesc::Rectangle, 7, vec![TransformOp::Translate(Vec3::new(0.0, 3.0, 0.0))]),
                         leaf(ShapeDesc::Sphere, 8, vec![TransformOp::Translate(Vec3::new(3.0, 0.5, 0.0))]),
+                        leaf(ShapeDesc::Sphere, 9, vec![TransformOp::Translate(Vec3::new(-3.0, 0.5, 0.0))]),
                     ]),
                     origin: "code".into(),
                 },
@@ -317,7 +328,18 @@ fn a_scene_using_every_field_round_trips() {
     let names: Vec<&str> = back.materials.iter().map(|m| m.name.as_str()).collect();
     assert_eq!(
         names,
-        ["plain", "say \"cheese\"", "plain-2", "material-4", "rough gold", "glass", "pane", "lamp", "textured lambert"]
+        [
+            "plain",
+            "say \"cheese\"",
+            "plain-2",
+            "material-4",
+            "rough gold",
+            "glass",
+            "pane",
+            "lamp",
+            "textured lambert",
+            "car paint"
+        ]
     );
     // The new fields are really there, not defaults that match by accident.
     assert!(matches!(back.settings.integrator, IntegratorDesc::Path(PathDesc { max_depth: 13, .. })));

@@ -290,7 +290,8 @@ fn bsdf_needs_a_known_type_and_lists_the_kinds() {
         "material \"m\" { bsdf lambert { } }",
         1,
         21,
-        "unknown bsdf type 'lambert'; expected one of: diffuse, conductor, dielectric, thin_dielectric, plastic",
+        "unknown bsdf type 'lambert'; expected one of: diffuse, conductor, dielectric, thin_dielectric, plastic, \
+         metallic_roughness",
     );
     assert_error("material \"m\" { bsdf }", 1, 16, "expected a bsdf type after 'bsdf'; one of: diffuse, conductor");
     assert_error("material \"m\" { bsdf { reflectance 1 } }", 1, 21, "needs its type before the block");
@@ -333,6 +334,12 @@ fn bsdf_values_out_of_range_are_refused() {
     assert_error("material \"m\" { bsdf diffuse { reflectance -0.5 } }", 1, 43, "must not be negative");
     assert_error("material \"m\" { bsdf conductor { eta [1 2] } }", 1, 33, "expected 1 or 3 numbers for 'eta'");
     assert_error("material \"m\" { bsdf plastic { nonlinear 1 } }", 1, 41, "expected true or false after 'nonlinear'");
+    assert_error(
+        "material \"m\" { bsdf metallic_roughness { metallic 1.5 } }",
+        1,
+        51,
+        "'metallic' must be from 0 (plastic) to 1 (metal)",
+    );
     assert_error(
         "material \"m\" { bsdf diffuse { texture \"wood\" } }",
         1,

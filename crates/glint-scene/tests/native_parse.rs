@@ -629,6 +629,18 @@ fn bsdfs_of_every_kind_with_every_property() {
             nonlinear: true,
         }
     );
+    assert_eq!(
+        with(
+            "bsdf metallic_roughness { base [0.9 0.5 0.1] texture \"a\" metallic 0.3 metallic_texture \"a\" \
+             roughness 0.2 roughness_texture \"a\" ior 1.4 }"
+        ),
+        BsdfDesc::MetallicRoughness {
+            base: ColorParam { value: Vec3::new(0.9, 0.5, 0.1), texture: Some(0) },
+            metallic: ScalarParam { value: 0.3, texture: Some(0) },
+            alpha: ScalarParam { value: 0.2, texture: Some(0) },
+            ior: 1.4,
+        }
+    );
 }
 
 #[test]
@@ -664,6 +676,10 @@ fn bsdf_defaults_of_every_kind() {
             alpha: smooth,
             nonlinear: false
         }
+    );
+    assert_eq!(
+        bsdf_of("material \"m\" { bsdf metallic_roughness }"),
+        BsdfDesc::MetallicRoughness { base: grey, metallic: smooth, alpha: smooth, ior: 1.5 }
     );
     assert_eq!(parse("material \"m\"").materials[0].bsdf, None);
 }

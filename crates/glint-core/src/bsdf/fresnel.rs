@@ -53,6 +53,15 @@ pub fn conductor(cos_i: f32, eta: Vec3, k: Vec3) -> Vec3 {
     (0.5 * (r_s + r_p)).clamp(Vec3::ZERO, Vec3::ONE)
 }
 
+/// Schlick's approximation with reflectance `f0` at normal incidence, per channel: the
+/// metal Fresnel of glTF's metallic-roughness model.
+#[inline]
+pub fn schlick(f0: Vec3, cos_i: f32) -> Vec3 {
+    let c = 1.0 - cos_i.clamp(0.0, 1.0);
+    let c2 = c * c;
+    f0 + (Vec3::ONE - f0) * (c2 * c2 * c)
+}
+
 /// Hemispherical average of the dielectric reflectance for light arriving from a
 /// cosine-weighted hemisphere (the diffuse Fresnel reflectance), by numerical
 /// integration: `2∫R(μ)μ dμ`. `eta` is the index on the far side over the near side.

@@ -25,6 +25,9 @@ use crate::material::NO_TEXTURE;
 use lobes::{cosine_hemisphere, cosine_hemisphere_pdf, mirror};
 use microfacet::{Ggx, Microfacet};
 
+/// The largest f32 below 1: keeps a rescaled lobe choice inside [0, 1).
+const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
+
 /// What a [`Bsdf`] record is.
 #[repr(u32)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, NoUninit)]
@@ -36,6 +39,8 @@ pub enum BsdfKind {
     Plastic = 4,
     /// The lecture's Phong material read physically: see [`phong`].
     Phong = 5,
+    /// glTF's metallic-roughness model: a metal and a plastic blended by `metallic`.
+    MetallicRoughness = 6,
 }
 
 /// Record flag: the back side scatters like the front.
@@ -89,6 +94,10 @@ pub struct Bsdf {
     pub emission: Vec3,
     /// Texture multiplying `emission`, or [`NO_TEXTURE`].
     pub emission_texture: u32,
+    /// Metallic-roughness: the metal's share of the blend (0 plastic, 1 metal); times
+    /// the mean channel of `metallic_texture` when there is one.
+    pub metallic: f32,
+    pub metallic_texture: u32,
 }
 
 impl Bsdf {
@@ -117,6 +126,8 @@ impl Bsdf {
             coat_transmittance: [1.0; coat::COAT_TABLE],
             emission: desc.emission,
             emission_texture: tex(desc.emission_texture),
+            metallic: 0.0,
+            metallic_texture: NO_TEXTURE,
         };
         let Some(bsdf) = desc.bsdf else {
             return phong::from_phong(desc, base);
@@ -164,27 +175,38 @@ impl Bsdf {
                 ..base
             },
             BsdfDesc::Plastic { diffuse, int_ior, ext_ior, specular, alpha, nonlinear } => {
-                let eta = int_ior / ext_ior;
-                // A rough coat's tables are made at the base roughness (a roughness
-                // texture varies the specular lobe only).
-                let (coat_transmittance, internal_reflectance) = if alpha.value >= Ggx::MIN_ALPHA {
-                    let beckmann = base.flags & BECKMANN != 0;
-                    coat::coat_tables(Microfacet { alpha: alpha.value, beckmann }, eta)
-                } else {
-                    ([1.0; coat::COAT_TABLE], fresnel::diffuse_reflectance(1.0 / eta))
-                };
                 let plastic = Self {
                     kind: BsdfKind::Plastic,
                     flags: base.flags | if nonlinear { NONLINEAR } else { 0 },
-                    eta: Vec3::splat(eta),
                     specular,
-                    internal_reflectance,
-                    coat_transmittance,
                     ..base
                 };
-                with_alpha(with_color(plastic, diffuse), alpha)
+                with_alpha(with_color(plastic.with_coat(int_ior / ext_ior, alpha.value), diffuse), alpha)
+            }
+            BsdfDesc::MetallicRoughness { base: color, metallic, alpha, ior } => {
+                let blend = Self {
+                    kind: BsdfKind::MetallicRoughness,
+                    specular: Vec3::ONE,
+                    metallic: metallic.value,
+                    metallic_texture: tex(metallic.texture),
+                    ..base
+                };
+                with_alpha(with_color(blend.with_coat(ior, alpha.value), color), alpha)
             }
         }
+    }
+
+    /// A dielectric coat of relative index `eta` over the base: its Fresnel tables. A
+    /// rough coat's are made at the base roughness `alpha` (a roughness texture varies
+    /// the specular lobe only).
+    fn with_coat(self, eta: f32, alpha: f32) -> Self {
+        let (coat_transmittance, internal_reflectance) = if alpha >= Ggx::MIN_ALPHA {
+            let beckmann = self.flags & BECKMANN != 0;
+            coat::coat_tables(Microfacet { alpha, beckmann }, eta)
+        } else {
+            ([1.0; coat::COAT_TABLE], fresnel::diffuse_reflectance(1.0 / eta))
+        };
+        Self { eta: Vec3::splat(eta), coat_transmittance, internal_reflectance, ..self }
     }
 
     /// Whether the surface emits light.
@@ -204,7 +226,16 @@ impl Bsdf {
         if self.alpha_texture != NO_TEXTURE {
             alpha *= texture(self.alpha_texture, uv * self.uv_repeat).element_sum() / 3.0;
         }
-        SurfaceBsdf { record: self, color, alpha: if alpha < Ggx::MIN_ALPHA { 0.0 } else { alpha } }
+        let mut metallic = self.metallic;
+        if self.metallic_texture != NO_TEXTURE {
+            metallic *= texture(self.metallic_texture, uv * self.uv_repeat).element_sum() / 3.0;
+        }
+        SurfaceBsdf {
+            record: self,
+            color,
+            alpha: if alpha < Ggx::MIN_ALPHA { 0.0 } else { alpha },
+            metallic: metallic.clamp(0.0, 1.0),
+        }
     }
 }
 
@@ -233,6 +264,8 @@ pub struct SurfaceBsdf<'a> {
     pub record: &'a Bsdf,
     pub color: Vec3,
     pub alpha: f32,
+    /// Metallic-roughness: the metal's share at this point, in [0, 1].
+    pub metallic: f32,
 }
 
 impl SurfaceBsdf<'_> {
@@ -250,6 +283,7 @@ impl SurfaceBsdf<'_> {
         match self.record.kind {
             BsdfKind::Diffuse | BsdfKind::Plastic => true,
             BsdfKind::Conductor | BsdfKind::Dielectric => self.alpha > 0.0,
+            BsdfKind::MetallicRoughness => self.alpha > 0.0 || self.metallic < 1.0,
             BsdfKind::ThinDielectric => false,
             BsdfKind::Phong => phong::has_non_delta(self),
         }
@@ -329,51 +363,83 @@ impl SurfaceBsdf<'_> {
     // ---- reflection-only kinds, with wo and wi on the +z side ----
 
     fn eval_front(&self, wo: Vec3, wi: Vec3) -> Vec3 {
-        let r = self.record;
-        match r.kind {
+        match self.record.kind {
             BsdfKind::Diffuse => self.color * FRAC_1_PI,
-            BsdfKind::Conductor => {
-                if self.alpha == 0.0 {
-                    return Vec3::ZERO;
-                }
-                let m = (wo + wi).normalize();
-                let ggx = self.microfacet();
-                let f = fresnel::conductor(wo.dot(m), r.eta, r.k);
-                self.color * f * (ggx.d(m) * ggx.g(wo, wi, m) / (4.0 * wo.z * wi.z))
-            }
-            BsdfKind::Plastic => {
-                let eta = r.eta.x;
-                let mut f = self.plastic_diffuse(wo, wi);
-                if self.alpha > 0.0 {
-                    let m = (wo + wi).normalize();
-                    let ggx = self.microfacet();
-                    let fr = fresnel::dielectric(wo.dot(m), eta).0;
-                    f += r.specular * (fr * ggx.d(m) * ggx.g(wo, wi, m) / (4.0 * wo.z * wi.z));
-                }
-                f
+            BsdfKind::Conductor => self.metal_eval(wo, wi),
+            BsdfKind::Plastic => self.plastic_eval(wo, wi),
+            BsdfKind::MetallicRoughness => {
+                let m = self.metallic;
+                let metal = if m > 0.0 { self.metal_eval(wo, wi) * m } else { Vec3::ZERO };
+                let plastic = if m < 1.0 { self.plastic_eval(wo, wi) * (1.0 - m) } else { Vec3::ZERO };
+                metal + plastic
             }
             _ => Vec3::ZERO,
         }
     }
 
+    /// A metal's reflectance at `cos θ` to the microfacet normal: the complex-index
+    /// Fresnel of a conductor, Schlick's with the base colour as F0 for
+    /// metallic-roughness (as glTF defines it).
+    fn metal_fresnel(&self, cos: f32) -> Vec3 {
+        let r = self.record;
+        if r.kind == BsdfKind::MetallicRoughness {
+            fresnel::schlick(self.color, cos)
+        } else {
+            self.color * fresnel::conductor(cos, r.eta, r.k)
+        }
+    }
+
+    /// The rough metal lobe (zero when smooth: a delta).
+    fn metal_eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        if self.alpha == 0.0 {
+            return Vec3::ZERO;
+        }
+        let m = (wo + wi).normalize();
+        let ggx = self.microfacet();
+        self.metal_fresnel(wo.dot(m)) * (ggx.d(m) * ggx.g(wo, wi, m) / (4.0 * wo.z * wi.z))
+    }
+
+    fn metal_pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        if self.alpha == 0.0 {
+            return 0.0;
+        }
+        let m = (wo + wi).normalize();
+        self.microfacet().normal_pdf(wo, m) / (4.0 * wo.dot(m))
+    }
+
+    /// The diffuse base through the coat plus, when rough, the coat's specular lobe.
+    fn plastic_eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        let r = self.record;
+        let mut f = self.plastic_diffuse(wo, wi);
+        if self.alpha > 0.0 {
+            let m = (wo + wi).normalize();
+            let ggx = self.microfacet();
+            let fr = fresnel::dielectric(wo.dot(m), r.eta.x).0;
+            f += r.specular * (fr * ggx.d(m) * ggx.g(wo, wi, m) / (4.0 * wo.z * wi.z));
+        }
+        f
+    }
+
+    fn plastic_pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        let p_specular = self.plastic_specular_probability(wo);
+        let mut pdf = (1.0 - p_specular) * cosine_hemisphere_pdf(wi);
+        if self.alpha > 0.0 {
+            let m = (wo + wi).normalize();
+            pdf += p_specular * self.microfacet().normal_pdf(wo, m) / (4.0 * wo.dot(m));
+        }
+        pdf
+    }
+
     fn pdf_front(&self, wo: Vec3, wi: Vec3) -> f32 {
         match self.record.kind {
             BsdfKind::Diffuse => cosine_hemisphere_pdf(wi),
-            BsdfKind::Conductor => {
-                if self.alpha == 0.0 {
-                    return 0.0;
-                }
-                let m = (wo + wi).normalize();
-                self.microfacet().normal_pdf(wo, m) / (4.0 * wo.dot(m))
-            }
-            BsdfKind::Plastic => {
-                let p_specular = self.plastic_specular_probability(wo);
-                let mut pdf = (1.0 - p_specular) * cosine_hemisphere_pdf(wi);
-                if self.alpha > 0.0 {
-                    let m = (wo + wi).normalize();
-                    pdf += p_specular * self.microfacet().normal_pdf(wo, m) / (4.0 * wo.dot(m));
-                }
-                pdf
+            BsdfKind::Conductor => self.metal_pdf(wo, wi),
+            BsdfKind::Plastic => self.plastic_pdf(wo, wi),
+            BsdfKind::MetallicRoughness => {
+                let m = self.metallic;
+                let metal = if m > 0.0 { self.metal_pdf(wo, wi) * m } else { 0.0 };
+                let plastic = if m < 1.0 { self.plastic_pdf(wo, wi) * (1.0 - m) } else { 0.0 };
+                metal + plastic
             }
             _ => 0.0,
         }
@@ -392,30 +458,45 @@ impl SurfaceBsdf<'_> {
                     eta: 1.0,
                 })
             }
-            BsdfKind::Conductor if self.alpha == 0.0 => {
-                let f = fresnel::conductor(wo.z, r.eta, r.k);
-                Some(BsdfSample { wi: mirror(wo), weight: self.color * f, pdf: 1.0, delta: true, eta: 1.0 })
-            }
-            BsdfKind::Conductor => {
-                let ggx = self.microfacet();
-                let m = ggx.sample_normal(wo, u);
-                let wi = lobes::reflect(wo, m);
-                if wi.z <= 0.0 {
-                    return None;
-                }
-                let f = fresnel::conductor(wo.dot(m), r.eta, r.k);
-                let normal_pdf = ggx.normal_pdf(wo, m);
-                if normal_pdf <= 0.0 {
-                    return None;
-                }
-                let pdf = normal_pdf / (4.0 * wo.dot(m));
-                // f·cos/pdf = F·D·G·(wo·m)/(wo_z·pdf(m)): F·G1(wi) for GGX's visible normals.
-                let weight = self.color * f * (ggx.d(m) * ggx.g(wo, wi, m) * wo.dot(m) / (wo.z * normal_pdf));
-                Some(BsdfSample { wi, weight, pdf, delta: false, eta: 1.0 })
-            }
+            BsdfKind::Conductor => self.sample_metal(wo, u),
             BsdfKind::Plastic => self.sample_plastic(wo, u_lobe, u),
+            BsdfKind::MetallicRoughness => self.sample_metallic_roughness(wo, u_lobe, u),
             _ => None,
         }
+    }
+
+    fn sample_metal(&self, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
+        if self.alpha == 0.0 {
+            let weight = self.metal_fresnel(wo.z);
+            return Some(BsdfSample { wi: mirror(wo), weight, pdf: 1.0, delta: true, eta: 1.0 });
+        }
+        let ggx = self.microfacet();
+        let m = ggx.sample_normal(wo, u);
+        let wi = lobes::reflect(wo, m);
+        if wi.z <= 0.0 {
+            return None;
+        }
+        let normal_pdf = ggx.normal_pdf(wo, m);
+        if normal_pdf <= 0.0 {
+            return None;
+        }
+        let pdf = normal_pdf / (4.0 * wo.dot(m));
+        // f·cos/pdf = F·D·G·(wo·m)/(wo_z·pdf(m)): F·G1(wi) for GGX's visible normals.
+        let weight = self.metal_fresnel(wo.dot(m)) * (ggx.d(m) * ggx.g(wo, wi, m) * wo.dot(m) / (wo.z * normal_pdf));
+        Some(BsdfSample { wi, weight, pdf, delta: false, eta: 1.0 })
+    }
+
+    /// Picks the metal with probability `metallic`, else the plastic. A delta lobe's
+    /// weight is its own (its share cancels against the probability of picking it);
+    /// a rough direction is weighed by the whole blend, as any lobe could have made it.
+    fn sample_metallic_roughness(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        let m = self.metallic;
+        if u_lobe < m {
+            let s = self.sample_metal(wo, u)?;
+            return if s.delta { Some(BsdfSample { pdf: m, ..s }) } else { self.weighed(wo, s.wi) };
+        }
+        let s = self.sample_plastic(wo, ((u_lobe - m) / (1.0 - m)).min(ONE_MINUS_EPSILON), u)?;
+        Some(if self.alpha == 0.0 { BsdfSample { pdf: s.pdf * (1.0 - m), ..s } } else { s })
     }
 
     // ---- plastic: a diffuse base under a dielectric coat (Mitsuba's plastic) ----

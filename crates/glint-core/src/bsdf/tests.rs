@@ -87,6 +87,16 @@ fn plastic(alpha: f32, nonlinear: bool) -> BsdfDesc {
     }
 }
 
+/// glTF's metallic-roughness material with an orange base.
+fn metallic(metallic: f32, alpha: f32) -> BsdfDesc {
+    BsdfDesc::MetallicRoughness {
+        base: ColorParam::constant(Vec3::new(0.9, 0.5, 0.2)),
+        metallic: ScalarParam::constant(metallic),
+        alpha: ScalarParam::constant(alpha),
+        ior: 1.5,
+    }
+}
+
 fn direction(cos_theta: f32, phi: f32) -> Vec3 {
     let sin = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
     Vec3::new(sin * phi.cos(), sin * phi.sin(), cos_theta)
@@ -217,6 +227,8 @@ fn reflection_is_reciprocal() {
         surface(plastic(0.2, true)),
         surface(glass(0.3)),
         phong(0.3, 0.5, 30.0, 0.0, 0.0, 1.0),
+        surface(metallic(0.4, 0.2)),
+        surface(metallic(0.4, 0.0)),
     ];
     for s in &cases {
         for _ in 0..200 {
@@ -252,6 +264,9 @@ fn samples_agree_with_eval_and_pdf() {
         beckmann(gold(0.25)),
         beckmann(glass(0.3)),
         phong(0.3, 0.4, 12.0, 0.0, 0.0, 1.0),
+        surface(metallic(0.5, 0.2)),
+        surface(metallic(0.3, 0.0)),
+        surface(metallic(1.0, 0.3)),
     ] {
         for _ in 0..500 {
             let wo = direction(2.0 * rng.next_f32() - 1.0, 2.0 * PI * rng.next_f32());
@@ -334,6 +349,7 @@ fn sampled_directions_follow_the_pdf() {
         cases.push(("rough gold", surface(gold(alpha))));
         cases.push(("rough glass", surface(glass(alpha))));
         cases.push(("rough plastic", surface(plastic(alpha, false))));
+        cases.push(("rough metallic-roughness", surface(metallic(0.5, alpha))));
     }
     for alpha in [0.1f32, 0.4] {
         cases.push(("Beckmann gold", beckmann(gold(alpha))));
@@ -341,6 +357,7 @@ fn sampled_directions_follow_the_pdf() {
         cases.push(("Beckmann plastic", beckmann(plastic(alpha, false))));
     }
     cases.push(("smooth plastic's diffuse part", surface(plastic(0.0, false))));
+    cases.push(("smooth metallic-roughness's diffuse part", surface(metallic(0.6, 0.0))));
     cases.push(("phong", phong(0.3, 0.5, 8.0, 0.1, 0.0, 1.0)));
     for (name, s) in &cases {
         for (i, cos) in [0.95f32, 0.6, 0.2, -0.5].into_iter().enumerate() {
@@ -350,4 +367,75 @@ fn sampled_directions_follow_the_pdf() {
             }
         }
     }
+}
+
+#[test]
+fn metallic_roughness_blends_a_schlick_metal_and_a_plastic_linearly() {
+    let mut rng = Rng::new(21);
+    for alpha in [0.0f32, 0.25] {
+        let (blend, metal, plastic) =
+            (surface(metallic(0.3, alpha)), surface(metallic(1.0, alpha)), surface(metallic(0.0, alpha)));
+        // The dielectric end is glint's plastic: the base under a coat of index 1.5.
+        let coat = surface(BsdfDesc::Plastic {
+            diffuse: ColorParam::constant(Vec3::new(0.9, 0.5, 0.2)),
+            int_ior: 1.5,
+            ext_ior: 1.0,
+            specular: Vec3::ONE,
+            alpha: ScalarParam::constant(alpha),
+            nonlinear: false,
+        });
+        for _ in 0..200 {
+            let wo = direction(rng.next_f32().max(0.05), 2.0 * PI * rng.next_f32());
+            let wi = direction(rng.next_f32().max(0.05), 2.0 * PI * rng.next_f32());
+            let mixed = metal.eval(wo, wi) * 0.3 + plastic.eval(wo, wi) * 0.7;
+            let close = |a: Vec3, b: Vec3| (a - b).abs().max_element() <= 1e-4 * a.max_element().max(1.0);
+            assert!(close(blend.eval(wo, wi), mixed), "α {alpha}: {} vs {mixed}", blend.eval(wo, wi));
+            assert!(close(plastic.eval(wo, wi), coat.eval(wo, wi)));
+            let pdf = metal.pdf(wo, wi) * 0.3 + plastic.pdf(wo, wi) * 0.7;
+            assert!((blend.pdf(wo, wi) - pdf).abs() <= 1e-4 * pdf.max(1.0));
+        }
+    }
+    // The metal end reflects its base colour at normal incidence and white at grazing.
+    let metal = surface(metallic(1.0, 0.0));
+    let head_on = metal.sample(Vec3::Z, 0.5, Vec2::splat(0.5)).unwrap();
+    assert!(head_on.delta && (head_on.weight - Vec3::new(0.9, 0.5, 0.2)).abs().max_element() < 1e-5);
+    let grazing = metal.sample(direction(0.01, 0.0), 0.5, Vec2::splat(0.5)).unwrap();
+    assert!(grazing.weight.min_element() > 0.9, "{}", grazing.weight);
+}
+
+#[test]
+fn metallic_roughness_conserves_energy_and_a_white_metal_loses_none_when_smooth() {
+    for cos in [1.0f32, 0.5, 0.1] {
+        let wo = direction(cos, 0.0);
+        for (m, alpha) in [(0.0f32, 0.0f32), (0.5, 0.0), (0.5, 0.3), (1.0, 0.3), (0.2, 0.6)] {
+            let a = albedo(&surface(metallic(m, alpha)), wo, 40_000);
+            assert!(a.max_element() <= 1.01, "metallic {m} α {alpha} at {cos}: {a}");
+        }
+        let white = surface(BsdfDesc::MetallicRoughness {
+            base: ColorParam::constant(Vec3::ONE),
+            metallic: ScalarParam::constant(1.0),
+            alpha: ScalarParam::constant(0.0),
+            ior: 1.5,
+        });
+        assert!((albedo(&white, wo, 1_000) - Vec3::ONE).abs().max_element() < 1e-5);
+    }
+}
+
+#[test]
+fn a_metallic_texture_scales_the_metal_share_per_point() {
+    let desc = MaterialDesc {
+        bsdf: Some(BsdfDesc::MetallicRoughness {
+            base: ColorParam::constant(Vec3::ONE),
+            metallic: ScalarParam { value: 0.8, texture: Some(0) },
+            alpha: ScalarParam::constant(0.2),
+            ior: 1.5,
+        }),
+        ..MaterialDesc::default()
+    };
+    let record = leak(Bsdf::compile(&desc));
+    let half = record.at(Vec2::ZERO, |_, _| Vec3::new(0.25, 0.5, 0.75));
+    assert!((half.metallic - 0.4).abs() < 1e-6);
+    let none = record.at(Vec2::ZERO, |_, _| Vec3::ZERO);
+    assert_eq!(none.metallic, 0.0);
+    assert!(none.has_non_delta());
 }

@@ -97,6 +97,10 @@ pub enum BsdfDesc {
     ThinDielectric { int_ior: f32, ext_ior: f32, reflectance: Vec3, transmittance: Vec3 },
     /// A diffuse base under a dielectric coat (plastic, varnish).
     Plastic { diffuse: ColorParam, int_ior: f32, ext_ior: f32, specular: Vec3, alpha: ScalarParam, nonlinear: bool },
+    /// glTF's metallic-roughness material: a blend, by `metallic` (0–1), of a metal
+    /// whose reflectance at normal incidence is `base` (Schlick's Fresnel) and a plastic
+    /// (`base` under a coat of index `ior`, glTF's 4 % at 1.5), with one roughness.
+    MetallicRoughness { base: ColorParam, metallic: ScalarParam, alpha: ScalarParam, ior: f32 },
 }
 
 /// Light arriving from infinitely far away in every direction: a constant radiance, or

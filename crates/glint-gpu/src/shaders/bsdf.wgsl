@@ -8,6 +8,7 @@ const BSDF_DIELECTRIC: u32 = 2u;
 const BSDF_THIN: u32 = 3u;
 const BSDF_PLASTIC: u32 = 4u;
 const BSDF_PHONG: u32 = 5u;
+const BSDF_METALLIC_ROUGHNESS: u32 = 6u;
 
 const TWO_SIDED: u32 = 1u;
 const NONLINEAR: u32 = 2u;
@@ -15,6 +16,8 @@ const BECKMANN: u32 = 4u;
 const EMITS_BOTH_SIDES: u32 = 8u;
 const CASTS_NO_SHADOW: u32 = 16u;
 const MIN_ALPHA: f32 = 1e-4;
+// The largest f32 below 1: keeps a rescaled lobe choice inside [0, 1).
+const ONE_MINUS_EPSILON: f32 = 0.99999994;
 
 // ---- textures (glint_core::texture) ----
 
@@ -241,6 +244,7 @@ struct SurfaceBsdf {
     index: u32,
     color: vec3<f32>,
     alpha: f32,
+    metallic: f32,
 }
 
 struct BsdfSample {
@@ -267,7 +271,11 @@ fn surface_bsdf(index: u32, uv: vec2<f32>) -> SurfaceBsdf {
     if r.alpha_texture != NO_INDEX {
         alpha *= sum3(texture_sample(r.alpha_texture, uv * v2(r.uv_repeat))) / 3.0;
     }
-    return SurfaceBsdf(index, color, select(alpha, 0.0, alpha < MIN_ALPHA));
+    var metallic = r.metallic;
+    if r.metallic_texture != NO_INDEX {
+        metallic *= sum3(texture_sample(r.metallic_texture, uv * v2(r.uv_repeat))) / 3.0;
+    }
+    return SurfaceBsdf(index, color, select(alpha, 0.0, alpha < MIN_ALPHA), clamp(metallic, 0.0, 1.0));
 }
 
 fn microfacet_of(s: SurfaceBsdf) -> Microfacet {
@@ -279,6 +287,7 @@ fn has_non_delta(s: SurfaceBsdf) -> bool {
         case 0u, 4u: { return true; }
         case 1u, 2u: { return s.alpha > 0.0; }
         case 3u: { return false; }
+        case 6u: { return s.alpha > 0.0 || s.metallic < 1.0; }
         default: {
             let p = phong_lobes(s).p;
             return p[0] + p[1] > 0.0;
@@ -365,25 +374,17 @@ fn bsdf_sample(s: SurfaceBsdf, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> Bsdf
 // ---- reflection-only kinds, wo and wi on the +z side ----
 
 fn eval_front(s: SurfaceBsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
-    let r = bsdfs[s.index];
-    switch r.kind {
+    switch bsdfs[s.index].kind {
         case 0u: { return s.color * INV_PI; }
-        case 1u: {
-            if s.alpha == 0.0 {
-                return vec3<f32>(0.0);
+        case 1u: { return metal_eval(s, wo, wi); }
+        case 4u: { return plastic_eval(s, wo, wi); }
+        case 6u: {
+            var f = vec3<f32>(0.0);
+            if s.metallic > 0.0 {
+                f += metal_eval(s, wo, wi) * s.metallic;
             }
-            let m = normalize(wo + wi);
-            let mf = microfacet_of(s);
-            let f = fresnel_conductor(dot(wo, m), v3(r.eta), v3(r.k));
-            return s.color * f * (mf_d(mf, m) * mf_g(mf, wo, wi, m) / (4.0 * wo.z * wi.z));
-        }
-        case 4u: {
-            var f = plastic_diffuse(s, wo, wi);
-            if s.alpha > 0.0 {
-                let m = normalize(wo + wi);
-                let mf = microfacet_of(s);
-                let fr = fresnel_dielectric(dot(wo, m), r.eta[0]).r;
-                f += v3(r.specular) * (fr * mf_d(mf, m) * mf_g(mf, wo, wi, m) / (4.0 * wo.z * wi.z));
+            if s.metallic < 1.0 {
+                f += plastic_eval(s, wo, wi) * (1.0 - s.metallic);
             }
             return f;
         }
@@ -394,19 +395,15 @@ fn eval_front(s: SurfaceBsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
 fn pdf_front(s: SurfaceBsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
     switch bsdfs[s.index].kind {
         case 0u: { return cosine_hemisphere_pdf(wi); }
-        case 1u: {
-            if s.alpha == 0.0 {
-                return 0.0;
+        case 1u: { return metal_pdf(s, wo, wi); }
+        case 4u: { return plastic_pdf(s, wo, wi); }
+        case 6u: {
+            var pdf = 0.0;
+            if s.metallic > 0.0 {
+                pdf += metal_pdf(s, wo, wi) * s.metallic;
             }
-            let m = normalize(wo + wi);
-            return mf_normal_pdf(microfacet_of(s), wo, m) / (4.0 * dot(wo, m));
-        }
-        case 4u: {
-            let p_specular = plastic_specular_probability(s, wo);
-            var pdf = (1.0 - p_specular) * cosine_hemisphere_pdf(wi);
-            if s.alpha > 0.0 {
-                let m = normalize(wo + wi);
-                pdf += p_specular * mf_normal_pdf(microfacet_of(s), wo, m) / (4.0 * dot(wo, m));
+            if s.metallic < 1.0 {
+                pdf += plastic_pdf(s, wo, wi) * (1.0 - s.metallic);
             }
             return pdf;
         }
@@ -414,9 +411,59 @@ fn pdf_front(s: SurfaceBsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
     }
 }
 
-fn sample_front(s: SurfaceBsdf, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> BsdfSample {
+// A metal's reflectance: the complex-index Fresnel of a conductor, Schlick's with the
+// base colour as F0 for metallic-roughness.
+fn metal_fresnel(s: SurfaceBsdf, cos_i: f32) -> vec3<f32> {
     let r = bsdfs[s.index];
-    switch r.kind {
+    if r.kind == BSDF_METALLIC_ROUGHNESS {
+        let c = 1.0 - clamp(cos_i, 0.0, 1.0);
+        let c2 = c * c;
+        return s.color + (vec3<f32>(1.0) - s.color) * (c2 * c2 * c);
+    }
+    return s.color * fresnel_conductor(cos_i, v3(r.eta), v3(r.k));
+}
+
+fn metal_eval(s: SurfaceBsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
+    if s.alpha == 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let m = normalize(wo + wi);
+    let mf = microfacet_of(s);
+    return metal_fresnel(s, dot(wo, m)) * (mf_d(mf, m) * mf_g(mf, wo, wi, m) / (4.0 * wo.z * wi.z));
+}
+
+fn metal_pdf(s: SurfaceBsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
+    if s.alpha == 0.0 {
+        return 0.0;
+    }
+    let m = normalize(wo + wi);
+    return mf_normal_pdf(microfacet_of(s), wo, m) / (4.0 * dot(wo, m));
+}
+
+fn plastic_eval(s: SurfaceBsdf, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
+    let r = bsdfs[s.index];
+    var f = plastic_diffuse(s, wo, wi);
+    if s.alpha > 0.0 {
+        let m = normalize(wo + wi);
+        let mf = microfacet_of(s);
+        let fr = fresnel_dielectric(dot(wo, m), r.eta[0]).r;
+        f += v3(r.specular) * (fr * mf_d(mf, m) * mf_g(mf, wo, wi, m) / (4.0 * wo.z * wi.z));
+    }
+    return f;
+}
+
+fn plastic_pdf(s: SurfaceBsdf, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
+    let p_specular = plastic_specular_probability(s, wo);
+    var pdf = (1.0 - p_specular) * cosine_hemisphere_pdf(wi);
+    if s.alpha > 0.0 {
+        let m = normalize(wo + wi);
+        pdf += p_specular * mf_normal_pdf(microfacet_of(s), wo, m) / (4.0 * dot(wo, m));
+    }
+    return pdf;
+}
+
+fn sample_front(s: SurfaceBsdf, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> BsdfSample {
+    switch bsdfs[s.index].kind {
         case 0u: {
             let wi = cosine_hemisphere(u);
             if wi.z <= 0.0 {
@@ -424,29 +471,52 @@ fn sample_front(s: SurfaceBsdf, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> Bsd
             }
             return BsdfSample(true, wi, s.color, cosine_hemisphere_pdf(wi), false, 1.0);
         }
-        case 1u: {
-            if s.alpha == 0.0 {
-                let f = fresnel_conductor(wo.z, v3(r.eta), v3(r.k));
-                return BsdfSample(true, mirror(wo), s.color * f, 1.0, true, 1.0);
-            }
-            let mf = microfacet_of(s);
-            let m = mf_sample_normal(mf, wo, u);
-            let wi = reflect_about(wo, m);
-            if wi.z <= 0.0 {
-                return no_sample();
-            }
-            let f = fresnel_conductor(dot(wo, m), v3(r.eta), v3(r.k));
-            let normal_pdf = mf_normal_pdf(mf, wo, m);
-            if normal_pdf <= 0.0 {
-                return no_sample();
-            }
-            let pdf = normal_pdf / (4.0 * dot(wo, m));
-            let weight = s.color * f * (mf_d(mf, m) * mf_g(mf, wo, wi, m) * dot(wo, m) / (wo.z * normal_pdf));
-            return BsdfSample(true, wi, weight, pdf, false, 1.0);
-        }
+        case 1u: { return sample_metal(s, wo, u); }
         case 4u: { return sample_plastic(s, wo, u_lobe, u); }
+        case 6u: { return sample_metallic_roughness(s, wo, u_lobe, u); }
         default: { return no_sample(); }
     }
+}
+
+fn sample_metal(s: SurfaceBsdf, wo: vec3<f32>, u: vec2<f32>) -> BsdfSample {
+    if s.alpha == 0.0 {
+        return BsdfSample(true, mirror(wo), metal_fresnel(s, wo.z), 1.0, true, 1.0);
+    }
+    let mf = microfacet_of(s);
+    let m = mf_sample_normal(mf, wo, u);
+    let wi = reflect_about(wo, m);
+    if wi.z <= 0.0 {
+        return no_sample();
+    }
+    let normal_pdf = mf_normal_pdf(mf, wo, m);
+    if normal_pdf <= 0.0 {
+        return no_sample();
+    }
+    let pdf = normal_pdf / (4.0 * dot(wo, m));
+    let weight = metal_fresnel(s, dot(wo, m)) * (mf_d(mf, m) * mf_g(mf, wo, wi, m) * dot(wo, m) / (wo.z * normal_pdf));
+    return BsdfSample(true, wi, weight, pdf, false, 1.0);
+}
+
+// The metal with probability `metallic`, else the plastic (as the CPU's
+// sample_metallic_roughness).
+fn sample_metallic_roughness(s: SurfaceBsdf, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> BsdfSample {
+    let m = s.metallic;
+    if u_lobe < m {
+        var out = sample_metal(s, wo, u);
+        if !out.found {
+            return out;
+        }
+        if out.delta {
+            out.pdf = m;
+            return out;
+        }
+        return weighed(s, wo, out.wi);
+    }
+    var out = sample_plastic(s, wo, min((u_lobe - m) / (1.0 - m), ONE_MINUS_EPSILON), u);
+    if out.found && s.alpha == 0.0 {
+        out.pdf *= 1.0 - m;
+    }
+    return out;
 }
 
 // ---- plastic ----

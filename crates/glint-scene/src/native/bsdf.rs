@@ -1,7 +1,8 @@
-//! `bsdf diffuse|conductor|dielectric|thin_dielectric|plastic { … }` inside a material:
-//! the physically based scattering the path tracer uses, with Mitsuba 3's parameters
-//! under shorter names (`reflectance` for `specular_reflectance`, `ior` for `int_ior`,
-//! `roughness` for the GGX `alpha`).
+//! `bsdf diffuse|conductor|dielectric|thin_dielectric|plastic|metallic_roughness { … }`
+//! inside a material: the physically based scattering the path tracer uses, with
+//! Mitsuba 3's parameters under shorter names (`reflectance` for `specular_reflectance`,
+//! `ior` for `int_ior`, `roughness` for the GGX `alpha`), and glTF's metallic-roughness
+//! model with its `base` colour and `metallic` share.
 
 use glam::Vec3;
 use glint_core::desc::{BsdfDesc, ColorParam, ScalarParam};
@@ -11,7 +12,7 @@ use super::builder::{Registry, Source};
 use super::tree::Node;
 
 /// The BSDF types, in the order the documentation lists them.
-pub const KINDS: [&str; 5] = ["diffuse", "conductor", "dielectric", "thin_dielectric", "plastic"];
+pub const KINDS: [&str; 6] = ["diffuse", "conductor", "dielectric", "thin_dielectric", "plastic", "metallic_roughness"];
 
 /// Default diffuse albedo of `diffuse` and `plastic` (Mitsuba's 0.5).
 const DIFFUSE_REFLECTANCE: f32 = 0.5;
@@ -34,6 +35,9 @@ fn allowed(kind: &str) -> &'static [&'static str] {
         "conductor" => &["eta", "k", "specular", "specular_texture", "roughness", "roughness_texture"],
         "dielectric" => &["ior", "ext_ior", "reflectance", "transmittance", "roughness", "roughness_texture"],
         "thin_dielectric" => &["ior", "ext_ior", "reflectance", "transmittance"],
+        "metallic_roughness" => {
+            &["base", "texture", "metallic", "metallic_texture", "roughness", "roughness_texture", "ior"]
+        }
         _ => &["diffuse", "texture", "ior", "ext_ior", "specular", "roughness", "roughness_texture", "nonlinear"],
     }
 }
@@ -41,10 +45,12 @@ fn allowed(kind: &str) -> &'static [&'static str] {
 /// Every property a BSDF block can set; each kind reads the ones it accepts.
 #[derive(Default)]
 struct Props {
-    /// `reflectance`, `specular`, `transmittance`, `diffuse`.
+    /// `reflectance`, `specular`, `transmittance`, `diffuse`, `base`.
     colors: Vec<(&'static str, Vec3)>,
-    /// `texture`, `specular_texture`, `roughness_texture`: texture indices.
+    /// `texture`, `specular_texture`, `roughness_texture`, `metallic_texture`: texture
+    /// indices.
     textures: Vec<(&'static str, usize)>,
+    metallic: Option<f32>,
     eta: Option<Vec3>,
     k: Option<Vec3>,
     roughness: Option<f32>,
@@ -78,6 +84,14 @@ impl Props {
         ScalarParam { value: self.roughness.unwrap_or(fallback), texture }
     }
 
+    /// `metallic` and `metallic_texture`, as [`Self::roughness`] does it (default 0:
+    /// plastic).
+    fn metallic(&self) -> ScalarParam {
+        let texture = self.texture("metallic_texture");
+        let fallback = if texture.is_some() { 1.0 } else { 0.0 };
+        ScalarParam { value: self.metallic.unwrap_or(fallback), texture }
+    }
+
     fn iors(&self) -> (f32, f32) {
         (self.ior.unwrap_or(INT_IOR), self.ext_ior.unwrap_or(EXT_IOR))
     }
@@ -96,10 +110,10 @@ pub fn bsdf(src: &Source, kind: &Node, textures: &Registry) -> Result<BsdfDesc> 
         };
         seen.once(src, prop, &place)?;
         match name {
-            "reflectance" | "specular" | "transmittance" | "diffuse" => {
+            "reflectance" | "specular" | "transmittance" | "diffuse" | "base" => {
                 props.colors.push((name, args::color(src, prop)?))
             }
-            "texture" | "specular_texture" | "roughness_texture" => {
+            "texture" | "specular_texture" | "roughness_texture" | "metallic_texture" => {
                 args::no_block(src, prop)?;
                 let (texture, pos) = args::string(src, prop, "a texture name")?;
                 props.textures.push((name, textures.lookup(src, pos, "texture", &texture)?));
@@ -108,6 +122,10 @@ pub fn bsdf(src: &Source, kind: &Node, textures: &Registry) -> Result<BsdfDesc> 
             "k" => props.k = Some(non_negative(src, prop)?),
             "roughness" => {
                 props.roughness = Some(args::number_where(src, prop, "0 or more (0 is smooth)", |x| x >= 0.0)?);
+            }
+            "metallic" => {
+                props.metallic =
+                    Some(args::number_where(src, prop, "from 0 (plastic) to 1 (metal)", |x| (0.0..=1.0).contains(&x))?);
             }
             "ior" => props.ior = Some(args::number_where(src, prop, "greater than 0", |x| x > 0.0)?),
             "ext_ior" => props.ext_ior = Some(args::number_where(src, prop, "greater than 0", |x| x > 0.0)?),
@@ -138,6 +156,12 @@ pub fn bsdf(src: &Source, kind: &Node, textures: &Registry) -> Result<BsdfDesc> 
             ext_ior,
             reflectance: one("reflectance"),
             transmittance: one("transmittance"),
+        },
+        "metallic_roughness" => BsdfDesc::MetallicRoughness {
+            base: props.color_param("base", "texture", DIFFUSE_REFLECTANCE),
+            metallic: props.metallic(),
+            alpha: props.roughness(),
+            ior: int_ior,
         },
         _ => BsdfDesc::Plastic {
             diffuse: props.color_param("diffuse", "texture", DIFFUSE_REFLECTANCE),

@@ -744,6 +744,16 @@ fn bsdf(b: &BsdfDesc, material: &str, textures: &[String]) -> Result<String, Wri
                 format!("nonlinear {nonlinear}"),
             ],
         ),
+        BsdfDesc::MetallicRoughness { base, metallic, alpha, ior } => {
+            let mut share = format!("metallic {}", num(metallic.value, what)?);
+            if let Some(t) = metallic.texture {
+                share.push_str(&format!("  metallic_texture {}", quote(texture_ref(t, textures, what)?)));
+            }
+            (
+                "metallic_roughness",
+                vec![color("base", "texture", base)?, share, roughness(alpha)?, format!("ior {}", num(*ior, what)?)],
+            )
+        }
     };
     Ok(format!("bsdf {kind} {{ {} }}", parts.join("  ")))
 }

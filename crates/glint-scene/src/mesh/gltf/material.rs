@@ -2,14 +2,14 @@
 //! IOR, emissive-strength and unlit extensions) as a physically based BSDF for the path
 //! tracer, and its nearest Phong material for the Whitted integrator.
 //!
-//! glint has no BSDF that blends a metal and a dielectric, so a material is one or the
-//! other: metallic at or above one half (the factor times the mean of the texture's blue
-//! channel) is a conductor whose reflectance is the base colour, below it a plastic (the
-//! base colour under a coat of the material's IOR, 1.5 by default: glTF's 4 % F0). A
-//! material between the two is named in a warning. Transmission at or above one half is
-//! a (thick) dielectric tinted by the base colour. The normal texture is a normal map
-//! in the uv frame. Occlusion textures are left out on purpose: they fake the shadowing
-//! that both integrators trace.
+//! The path tracer reads the model as glTF defines it, with glint's metallic-roughness
+//! BSDF: per point, `metallic` (the factor times the texture's blue channel) blends a
+//! metal whose reflectance at normal incidence is the base colour (Schlick's Fresnel)
+//! and a plastic (the base colour under a coat of the material's IOR, 1.5 by default:
+//! glTF's 4 % F0), with the roughness of the texture's green channel. Transmission at or
+//! above one half is a (thick) dielectric tinted by the base colour. The normal texture
+//! is a normal map in the uv frame. Occlusion textures are left out on purpose: they
+//! fake the shadowing that both integrators trace.
 
 use std::borrow::Cow;
 use std::path::Path;
@@ -32,12 +32,17 @@ pub(super) enum Texels {
     /// glTF's metallic-roughness texture reduced to the GGX alpha its green channel
     /// gives: `roughness²` in every channel, so a [`ScalarParam`] reads it as is.
     AlphaFromGreen,
+    /// The same texture's blue channel (metallic) in every channel.
+    MetallicFromBlue,
 }
 
 /// The physically based parameters of a glTF material, read once.
 struct Pbr {
     base: ColorParam,
-    metallic: f32,
+    metallic: ScalarParam,
+    /// The metallic share over the whole surface (the factor times the texture's mean),
+    /// for the Whitted integrator's single Phong material.
+    mean_metallic: f32,
     /// GGX alpha: glTF's perceptual roughness squared.
     alpha: ScalarParam,
     roughness: f32,
@@ -55,7 +60,7 @@ impl State<'_> {
             return Ok(i);
         }
         let name = material.name().map_or_else(|| format!("material{index}"), str::to_owned);
-        let pbr = self.pbr(material, &name)?;
+        let pbr = self.pbr(material)?;
         let mut desc = phong_of(&pbr, name);
         desc.bsdf = Some(if material.unlit() {
             BsdfDesc::Diffuse { reflectance: ColorParam::constant(Vec3::ZERO) }
@@ -75,7 +80,7 @@ impl State<'_> {
         Ok(self.import.materials.len() - 1)
     }
 
-    fn pbr(&mut self, material: &gltf::Material, name: &str) -> Result<Pbr, SceneError> {
+    fn pbr(&mut self, material: &gltf::Material) -> Result<Pbr, SceneError> {
         let pbr = material.pbr_metallic_roughness();
         let [r, g, b, _] = pbr.base_color_factor();
         let base_texture = match pbr.base_color_texture() {
@@ -83,19 +88,18 @@ impl State<'_> {
             None => None,
         };
         let roughness = pbr.roughness_factor().clamp(0.0, 1.0);
-        let mut metallic = pbr.metallic_factor().clamp(0.0, 1.0);
+        let mut metallic = ScalarParam::constant(pbr.metallic_factor().clamp(0.0, 1.0));
+        let mut mean_metallic = metallic.value;
         let mut alpha = ScalarParam::constant(roughness * roughness);
-        if let Some(info) = pbr.metallic_roughness_texture()
-            && let Some(t) = self.texture(&info.texture(), Texels::AlphaFromGreen)?
-        {
-            alpha.texture = Some(t);
-            metallic *= self.blue_means.get(&t).copied().unwrap_or(1.0);
-        }
-        if metallic > 0.1 && metallic < 0.9 {
-            let nearest = if metallic >= 0.5 { "a metal" } else { "a plastic" };
-            self.warn(format!(
-                "material '{name}': metallic {metallic:.2} is rendered as {nearest} (glint has no blend of the two)"
-            ));
+        if let Some(info) = pbr.metallic_roughness_texture() {
+            alpha.texture = self.texture(&info.texture(), Texels::AlphaFromGreen)?;
+            // A zero factor makes the texture's metallic channel irrelevant.
+            if metallic.value > 0.0 {
+                metallic.texture = self.texture(&info.texture(), Texels::MetallicFromBlue)?;
+                if let Some(t) = metallic.texture {
+                    mean_metallic *= self.channel_means.get(&t).copied().unwrap_or(1.0);
+                }
+            }
         }
         let strength = material.emissive_strength().unwrap_or(1.0);
         let emission = Vec3::from(material.emissive_factor()) * strength;
@@ -106,6 +110,7 @@ impl State<'_> {
         Ok(Pbr {
             base: ColorParam { value: Vec3::new(r, g, b), texture: base_texture },
             metallic,
+            mean_metallic,
             alpha,
             roughness,
             ior: material.ior().unwrap_or(1.5),
@@ -133,9 +138,15 @@ impl State<'_> {
             if let TextureDesc::Image { sampling: s, .. } = &mut desc {
                 *s = sampling;
             }
-            if texels == Texels::AlphaFromGreen {
-                let blue_mean = alpha_from_green(&mut desc);
-                self.blue_means.insert(self.import.textures.len(), blue_mean);
+            match texels {
+                Texels::AlphaFromGreen => {
+                    spread_channel(&mut desc, |t| t.y * t.y);
+                }
+                Texels::MetallicFromBlue => {
+                    let mean = spread_channel(&mut desc, |t| t.z);
+                    self.channel_means.insert(self.import.textures.len(), mean);
+                }
+                Texels::Color | Texels::Data => {}
             }
             self.import.textures.push(desc);
             self.import.textures.len() - 1
@@ -170,7 +181,7 @@ impl State<'_> {
         };
         let transfer = match texels {
             Texels::Color => Transfer::Srgb,
-            Texels::AlphaFromGreen | Texels::Data => Transfer::Identity,
+            Texels::AlphaFromGreen | Texels::MetallicFromBlue | Texels::Data => Transfer::Identity,
         };
         match crate::texture_io::decode_image(&format!("image{index}"), &file, &bytes, transfer, false) {
             Ok(desc) => Ok(Some(desc)),
@@ -202,19 +213,21 @@ fn sampling_of(sampler: &gltf::texture::Sampler) -> ImageSampling {
     }
 }
 
-/// Turns a decoded metallic-roughness image into its GGX alpha (green squared, in every
-/// channel) and returns the mean of its blue (metallic) channel.
-fn alpha_from_green(desc: &mut TextureDesc) -> f32 {
+/// Replaces every texel of a decoded image by `value(texel)` in all three channels (so a
+/// [`ScalarParam`] reads it as is) and returns the mean of the new values.
+fn spread_channel(desc: &mut TextureDesc, value: impl Fn(Vec3) -> f32) -> f32 {
     let TextureDesc::Image { texels, .. } = desc else { return 1.0 };
-    let mut blue = 0.0f64;
+    let mut sum = 0.0f64;
     for t in texels.iter_mut() {
-        blue += f64::from(t.z);
-        *t = Vec3::splat(t.y * t.y);
+        let v = value(*t);
+        sum += f64::from(v);
+        *t = Vec3::splat(v);
     }
-    (blue / texels.len().max(1) as f64) as f32
+    (sum / texels.len().max(1) as f64) as f32
 }
 
-/// The path tracer's BSDF: glass, metal or plastic, whichever the material is nearest.
+/// The path tracer's BSDF: glass when the material transmits, else the
+/// metallic-roughness blend.
 fn bsdf_of(pbr: &Pbr) -> BsdfDesc {
     if pbr.transmission >= 0.5 {
         return BsdfDesc::Dielectric {
@@ -225,34 +238,28 @@ fn bsdf_of(pbr: &Pbr) -> BsdfDesc {
             alpha: pbr.alpha,
         };
     }
-    if pbr.metallic >= 0.5 {
-        // η = 0, k = 1 reflects everything at every angle (Mitsuba's conductor "none"),
-        // so the reflectance is the base colour, as glTF's metal is at normal incidence.
-        return BsdfDesc::Conductor { eta: Vec3::ZERO, k: Vec3::ONE, specular: pbr.base, alpha: pbr.alpha };
-    }
-    BsdfDesc::Plastic {
-        diffuse: pbr.base,
-        int_ior: pbr.ior.max(1.0 + 1e-3),
-        ext_ior: 1.0,
-        specular: Vec3::ONE,
+    BsdfDesc::MetallicRoughness {
+        base: pbr.base,
+        metallic: pbr.metallic,
         alpha: pbr.alpha,
-        nonlinear: false,
+        ior: pbr.ior.max(1.0 + 1e-3),
     }
 }
 
-/// The nearest Phong material for the Whitted integrator: the base colour as diffuse
-/// (metals show it in their highlights and reflection instead), a highlight as sharp as
-/// the roughness, a mirror term for smooth metals, refraction for transmission.
+/// The nearest Phong material for the Whitted integrator, blended by the surface's mean
+/// metallic share as the BSDF is: the base colour as diffuse (metals show it in their
+/// highlights and reflection instead), a highlight as sharp as the roughness, a mirror
+/// term for smooth metals, refraction for transmission.
 fn phong_of(pbr: &Pbr, name: String) -> MaterialDesc {
     let base = pbr.base.value;
-    let metal = pbr.metallic >= 0.5;
+    let metal = pbr.mean_metallic;
     let alpha = (pbr.roughness * pbr.roughness).max(1e-3);
     let mut desc = MaterialDesc {
         name,
-        diffuse: if metal { base * 0.1 } else { base },
-        specular: if metal { base } else { Vec3::splat(0.04) },
+        diffuse: base * (1.0 - 0.9 * metal),
+        specular: Vec3::splat(0.04).lerp(base, metal),
         shininess: (2.0 / (alpha * alpha) - 2.0).clamp(1.0, 2000.0),
-        reflective: Some(if metal { base * (1.0 - pbr.roughness) } else { Vec3::ZERO }),
+        reflective: Some(base * (metal * (1.0 - pbr.roughness))),
         ..Default::default()
     };
     if let Some(texture) = pbr.base.texture {

@@ -61,7 +61,7 @@ pub fn parse(path: &Path, bytes: Vec<u8>) -> Result<MeshImport, SceneError> {
         meshes: HashMap::new(),
         materials: HashMap::new(),
         textures: HashMap::new(),
-        blue_means: HashMap::new(),
+        channel_means: HashMap::new(),
         skipped_modes: HashMap::new(),
     };
     let scene = doc.default_scene().or_else(|| doc.scenes().next());
@@ -279,9 +279,9 @@ struct State<'a> {
     /// (image, how its texels are meant, its sampler) → index into `import.textures`;
     /// `None`: an image glint cannot decode, already warned about.
     textures: HashMap<(usize, Texels, ImageSampling), Option<usize>>,
-    /// Mean metallic (blue channel) of each metallic-roughness texture, by its index
-    /// in `import.textures`.
-    blue_means: HashMap<usize, f32>,
+    /// Mean of each metallic texture (a metallic-roughness texture's blue channel), by
+    /// its index in `import.textures`.
+    channel_means: HashMap<usize, f32>,
     /// Primitives of each mode glint does not draw (points, lines).
     skipped_modes: HashMap<&'static str, usize>,
 }

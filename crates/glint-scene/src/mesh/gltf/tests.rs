@@ -201,19 +201,19 @@ fn with_material(material: &str) -> MeshImport {
 }
 
 #[test]
-fn metallic_roughness_materials_map_onto_the_nearest_bsdf() {
+fn metallic_roughness_materials_map_onto_the_metallic_roughness_bsdf() {
     let metal = with_material(r#"{"pbrMetallicRoughness":{"baseColorFactor":[0.9,0.6,0.2,1],"roughnessFactor":0.5}}"#);
     let m = &metal.materials[0];
-    let Some(BsdfDesc::Conductor { specular, alpha, .. }) = m.bsdf else { panic!("{:?}", m.bsdf) };
-    assert_eq!((specular.value, alpha.value), (Vec3::new(0.9, 0.6, 0.2), 0.25));
+    let Some(BsdfDesc::MetallicRoughness { base, metallic, alpha, ior }) = m.bsdf else { panic!("{:?}", m.bsdf) };
+    assert_eq!((base.value, metallic.value, alpha.value, ior), (Vec3::new(0.9, 0.6, 0.2), 1.0, 0.25, 1.5));
     assert!(!m.two_sided, "glTF materials are single-sided unless they say otherwise");
     let plastic = with_material(
         r#"{"pbrMetallicRoughness":{"baseColorFactor":[0.1,0.5,0.2,1],"metallicFactor":0,"roughnessFactor":0},
 "doubleSided":true,"emissiveFactor":[1,0.5,0],"extensions":{"KHR_materials_emissive_strength":{"emissiveStrength":4}}}"#,
     );
     let m = &plastic.materials[0];
-    let Some(BsdfDesc::Plastic { diffuse, int_ior, alpha, .. }) = m.bsdf else { panic!("{:?}", m.bsdf) };
-    assert_eq!((diffuse.value, int_ior, alpha.value), (Vec3::new(0.1, 0.5, 0.2), 1.5, 0.0));
+    let Some(BsdfDesc::MetallicRoughness { base, metallic, alpha, .. }) = m.bsdf else { panic!("{:?}", m.bsdf) };
+    assert_eq!((base.value, metallic.value, alpha.value), (Vec3::new(0.1, 0.5, 0.2), 0.0, 0.0));
     assert!(m.two_sided);
     assert_eq!(m.emission, Vec3::new(4.0, 2.0, 0.0));
     let glass = with_material(
@@ -228,9 +228,11 @@ fn metallic_roughness_materials_map_onto_the_nearest_bsdf() {
         r#"{"pbrMetallicRoughness":{"baseColorFactor":[0.3,0.6,0.9,1]},"extensions":{"KHR_materials_unlit":{}}}"#,
     );
     assert_eq!(unlit.materials[0].emission, Vec3::new(0.3, 0.6, 0.9));
+    // A material between metal and plastic is blended, not rounded to either.
     let half = with_material(r#"{"pbrMetallicRoughness":{"metallicFactor":0.4}}"#);
-    assert!(matches!(half.materials[0].bsdf, Some(BsdfDesc::Plastic { .. })));
-    assert!(half.warnings.iter().any(|w| w.contains("metallic 0.40 is rendered as a plastic")), "{:?}", half.warnings);
+    let Some(BsdfDesc::MetallicRoughness { metallic, .. }) = half.materials[0].bsdf else { panic!() };
+    assert_eq!(metallic.value, 0.4);
+    assert!(half.warnings.is_empty(), "{:?}", half.warnings);
 }
 
 #[test]
@@ -282,8 +284,8 @@ fn an_undecodable_image_is_a_warning_and_a_required_extension_one_sentence() {
     );
     let import = read(model.document(&one_primitive(r#"{"attributes":{"POSITION":0},"material":0}"#, &more))).unwrap();
     assert!(import.warnings.iter().any(|w| w.contains("image 0 is left out")), "{:?}", import.warnings);
-    let Some(BsdfDesc::Plastic { diffuse, .. }) = import.materials[0].bsdf else { panic!() };
-    assert_eq!((diffuse.value, diffuse.texture), (Vec3::splat(0.5), None));
+    let Some(BsdfDesc::MetallicRoughness { base, .. }) = import.materials[0].bsdf else { panic!() };
+    assert_eq!((base.value, base.texture), (Vec3::splat(0.5), None));
 
     let required =
         r#","extensionsUsed":["KHR_draco_mesh_compression"],"extensionsRequired":["KHR_draco_mesh_compression"]"#;
@@ -331,4 +333,33 @@ fn a_normal_texture_is_a_normal_map_read_as_data() {
     assert_eq!(normal_map.scale, 0.7);
     let TextureDesc::Image { texels, .. } = &import.textures[normal_map.texture] else { panic!() };
     assert!((texels[0] - Vec3::new(128.0, 128.0, 255.0) / 255.0).length() < 1e-6, "not sRGB-decoded: {}", texels[0]);
+}
+
+#[test]
+fn a_metallic_roughness_texture_gives_roughness_from_green_and_metallic_from_blue() {
+    let import = with_texture(
+        r#"{"pbrMetallicRoughness":{"metallicFactor":0.5,"roughnessFactor":1,"metallicRoughnessTexture":{"index":0}}}"#,
+        [10, 128, 204],
+    );
+    let m = &import.materials[0];
+    let Some(BsdfDesc::MetallicRoughness { metallic, alpha, .. }) = m.bsdf else { panic!("{:?}", m.bsdf) };
+    assert_eq!((metallic.value, alpha.value), (0.5, 1.0));
+    let texel = |t: Option<usize>| match &import.textures[t.expect("textured")] {
+        TextureDesc::Image { texels, .. } => texels[0],
+        other => panic!("{other:?}"),
+    };
+    let green = 128.0 / 255.0;
+    assert!((texel(alpha.texture) - Vec3::splat(green * green)).length() < 1e-6, "alpha = roughness²");
+    assert!((texel(metallic.texture) - Vec3::splat(0.8)).length() < 1e-6, "metallic, stored as data");
+    // The Whitted reading takes the mean metallic share, 0.5 × 0.8: a part of the base
+    // colour goes to the highlight.
+    assert!((m.specular - Vec3::splat(0.04).lerp(Vec3::ONE, 0.4)).length() < 1e-5, "{}", m.specular);
+    // A zero metallic factor needs no metallic texture.
+    let plastic = with_texture(
+        r#"{"pbrMetallicRoughness":{"metallicFactor":0,"metallicRoughnessTexture":{"index":0}}}"#,
+        [10, 128, 204],
+    );
+    let Some(BsdfDesc::MetallicRoughness { metallic, alpha, .. }) = plastic.materials[0].bsdf else { panic!() };
+    assert_eq!((metallic.texture, plastic.textures.len()), (None, 1));
+    assert!(alpha.texture.is_some());
 }
