@@ -196,7 +196,12 @@ pub fn compile(desc: &SceneDesc) -> Result<RenderScene, CompileError> {
         .collect::<Result<_, _>>()?;
     let lights = desc.lights.iter().filter_map(Light::compile).collect::<Vec<_>>();
     if lights.iter().any(|l| {
-        !(l.color.is_finite() && l.position.is_finite() && l.direction.is_finite() && l.attenuation.is_finite())
+        !(l.color.is_finite()
+            && l.position.is_finite()
+            && l.direction.is_finite()
+            && l.attenuation.is_finite()
+            && l.outer_angle.is_finite()
+            && l.inner_angle.is_finite())
     }) {
         return Err(invalid("lights", "light values must be finite and directions non-zero"));
     }

@@ -595,3 +595,12 @@ fn named_coordinate_systems_and_the_camera_space() {
     close(c[1], Vec3::new(4.0, 0.0, 0.0));
     close(c[2], Vec3::ZERO);
 }
+
+/// Found by fuzzing: a negative cone angle reached `clamp(0, angle)` and panicked.
+#[test]
+fn a_spot_lights_cone_angle_outside_its_range_is_an_error() {
+    for angle in ["-70", "0", "190"] {
+        let text = format!("WorldBegin\nLightSource \"spot\" \"float coneangle\" {angle} \"float conedelta\" 5\n");
+        assert_error(&text, 2, "must lie in (0, 180]");
+    }
+}

@@ -178,7 +178,7 @@ impl Builder<'_> {
                 color,
                 attenuation,
                 angle_degrees: angle,
-                penumbra_degrees: penumbra.clamp(0.0, angle),
+                penumbra_degrees: penumbra.max(0.0).min(angle),
                 falloff: glint_core::desc::SpotFalloff::Smooth,
             },
             LightKind::Area { width, height } => {

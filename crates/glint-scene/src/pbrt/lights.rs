@@ -92,10 +92,11 @@ fn spot(r: &Reader, p: &Params) -> Result<LightDesc, SceneError> {
     let from = p.vec3("from", &["point3"])?.unwrap_or(Vec3::ZERO);
     let to = p.vec3("to", &["point3"])?.unwrap_or(Vec3::Z);
     let angle = p.float_or("coneangle", 30.0)?;
-    let delta = p.float_or("conedelta", 5.0)?.clamp(0.0, angle);
     if !(angle > 0.0 && angle <= 180.0) {
         return Err(p.error(format!("coneangle {angle} must lie in (0, 180]")));
     }
+    // Checked first: clamping to a negative or NaN angle would be meaningless.
+    let delta = p.float_or("conedelta", 5.0)?.max(0.0).min(angle);
     let direction = world_vector(r, to - from);
     if direction.length_squared() == 0.0 || !direction.is_finite() {
         return Err(p.error("from and to must differ"));

@@ -56,7 +56,8 @@ impl State<'_> {
                     color,
                     attenuation: inverse_square,
                     angle_degrees: outer,
-                    penumbra_degrees: (outer - inner_cone_angle.to_degrees()).clamp(0.0, outer),
+                    // max/min, not clamp: a negative or NaN angle must not panic.
+                    penumbra_degrees: (outer - inner_cone_angle.to_degrees()).max(0.0).min(outer),
                     falloff: SpotFalloff::default(),
                 }
             }
