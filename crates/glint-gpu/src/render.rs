@@ -80,6 +80,33 @@ impl<'g> Progressive<'g> {
         Ok(Progressive { gpu, scene: gpu_scene, trace, splat, bind_group, params, accum, readback, capacity, done: 0 })
     }
 
+    /// Starts over with `scene`'s camera and settings, keeping the uploaded scene and
+    /// the compiled kernels: what an interactive viewer does after each move. `scene`
+    /// must be the scene this render was made for, at the same size and with the same
+    /// integrator; `false` (and nothing changed) when it is not, and a new
+    /// [`Progressive`] is needed.
+    pub fn restart(&mut self, scene: &RenderScene) -> Result<bool, GpuError> {
+        let p = &self.scene.params;
+        let same_kernel = match scene.settings.integrator {
+            IntegratorDesc::Path(_) => p.integrator == crate::records::INTEGRATOR_PATH,
+            IntegratorDesc::Whitted => p.integrator == crate::records::INTEGRATOR_WHITTED,
+        };
+        let same_scene =
+            p.instance_count as usize == scene.instances.len() && p.node_count as usize == scene.bvh.nodes.len();
+        if !same_kernel || !same_scene || (p.width, p.height) != (scene.settings.width, scene.settings.height) {
+            return Ok(false);
+        }
+        crate::upload::set_view(&mut self.scene.params, scene);
+        let gpu = self.gpu;
+        gpu.checked("clearing the film", || {
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            encoder.clear_buffer(&self.accum, 0, None);
+            gpu.queue.submit([encoder.finish()]);
+        })?;
+        self.done = 0;
+        Ok(true)
+    }
+
     /// Samples per pixel accumulated so far.
     pub fn samples_done(&self) -> u32 {
         self.done

@@ -3,7 +3,7 @@
 //! instance BVH's, their packets, vertices and indices one after another) with
 //! per-mesh offsets, and every plain number array in one float or one word buffer.
 
-use bytemuck::NoUninit;
+use bytemuck::{NoUninit, Zeroable};
 use glam::{Mat3, Mat4, Vec3};
 use glint_core::desc::{Features, IntegratorDesc, SamplerKind};
 use glint_core::sampling::SamplePattern;
@@ -196,10 +196,6 @@ fn mat4(m: Mat3) -> Mat4 {
 /// into the float array on the way.
 fn params(scene: &RenderScene, a: &mut Arrays, texel_offset: u32, instance_emitter_offset: u32) -> Params {
     let s = &scene.settings;
-    let (integrator, path, max_depth) = match s.integrator {
-        IntegratorDesc::Path(p) => (records::INTEGRATOR_PATH, p, p.max_depth),
-        IntegratorDesc::Whitted => (records::INTEGRATOR_WHITTED, Default::default(), s.max_depth),
-    };
     let (emitter_count, light_cdf_offset) = match &scene.light_selection {
         Some(selection) => (selection.len() as u32, a.push_floats(selection.cdf().iter().copied())),
         None => (0, 0),
@@ -209,10 +205,6 @@ fn params(scene: &RenderScene, a: &mut Arrays, texel_offset: u32, instance_emitt
         height: s.height,
         sample_offset: 0,
         pass_samples: 0,
-        seed: s.seed,
-        sampler: (path.sampler == SamplerKind::Independent) as u32,
-        max_depth,
-        rr_depth: path.rr_depth,
         bounded_count: scene.bounded_count as u32,
         instance_count: scene.instances.len() as u32,
         emitter_count,
@@ -226,37 +218,19 @@ fn params(scene: &RenderScene, a: &mut Arrays, texel_offset: u32, instance_emitt
         filter_kind: s.filter.kind as u32,
         filter_radius: s.filter.radius,
         filter_scale: s.filter.normalization(),
-        aperture_radius: scene.camera.aperture_radius,
-        focal_distance: scene.camera.focal_distance,
         node_count: scene.bvh.nodes.len() as u32,
         texel_offset,
         instance_emitter_offset,
-        integrator,
-        min_contribution: s.min_contribution,
-        features: features(s.features),
         has_transmissive: scene.has_transmissive as u32,
-        pattern: match s.sampler.pattern {
-            SamplePattern::Grid => records::PATTERN_GRID,
-            SamplePattern::CornersAndCentre => records::PATTERN_CORNERS,
-            SamplePattern::Jittered => records::PATTERN_JITTERED,
-            SamplePattern::Sobol => records::PATTERN_SOBOL,
-        },
-        per_axis: s.sampler.per_axis,
         light_count: scene.lights.len() as u32,
-        pattern_seed: s.sampler.seed,
         reserved1: 0,
         has_motion: (!scene.motions.is_empty()) as u32,
-        background: vec4(s.background),
-        ambient: vec4(s.ambient_light),
         env_scale: [0.0; 4],
-        eye: vec4(scene.camera.eye),
-        right: vec4(scene.camera.right),
-        up: vec4(scene.camera.up),
-        forward: vec4(scene.camera.forward),
-        world_from_canonical: scene.camera.world_from_canonical,
         env_from_world: Mat4::IDENTITY,
         world_from_env: Mat4::IDENTITY,
+        ..Params::zeroed()
     };
+    set_view(&mut p, scene);
     if let Some(env) = &scene.environment {
         p.env_scale = vec4(env.scale);
         p.env_from_world = mat4(env.env_from_world);
@@ -275,4 +249,36 @@ fn params(scene: &RenderScene, a: &mut Arrays, texel_offset: u32, instance_emitt
         }
     }
     p
+}
+
+/// The pass parameters a viewer changes between renders of one uploaded scene: the
+/// camera, the integrator and its depth, the sampler and seed, the effect switches and
+/// the background.
+pub(crate) fn set_view(p: &mut Params, scene: &RenderScene) {
+    let s = &scene.settings;
+    let (integrator, path, max_depth) = match s.integrator {
+        IntegratorDesc::Path(path) => (records::INTEGRATOR_PATH, path, path.max_depth),
+        IntegratorDesc::Whitted => (records::INTEGRATOR_WHITTED, Default::default(), s.max_depth),
+    };
+    p.integrator = integrator;
+    p.seed = s.seed;
+    p.sampler = (path.sampler == SamplerKind::Independent) as u32;
+    p.max_depth = max_depth;
+    p.rr_depth = path.rr_depth;
+    p.min_contribution = s.min_contribution;
+    p.features = features(s.features);
+    p.pattern = match s.sampler.pattern {
+        SamplePattern::Grid => records::PATTERN_GRID,
+        SamplePattern::CornersAndCentre => records::PATTERN_CORNERS,
+        SamplePattern::Jittered => records::PATTERN_JITTERED,
+        SamplePattern::Sobol => records::PATTERN_SOBOL,
+    };
+    p.per_axis = s.sampler.per_axis;
+    p.pattern_seed = s.sampler.seed;
+    p.background = vec4(s.background);
+    p.ambient = vec4(s.ambient_light);
+    let c = &scene.camera;
+    (p.aperture_radius, p.focal_distance) = (c.aperture_radius, c.focal_distance);
+    (p.eye, p.right, p.up, p.forward) = (vec4(c.eye), vec4(c.right), vec4(c.up), vec4(c.forward));
+    p.world_from_canonical = c.world_from_canonical;
 }
