@@ -132,10 +132,10 @@ pub fn hud_lines(viewer: &Viewer) -> Vec<String> {
     let (width, height) = viewer.size();
     let mut lines = vec![
         format!(
-            "{} spp  {:.1} ms/pass  {:.2} Mrays/s  {width}x{height}",
+            "{} spp  {:.1} ms/pass  {}  {width}x{height}",
             viewer.passes(),
             timing.last_pass.as_secs_f64() * 1e3,
-            timing.rays_per_second / 1e6
+            if timing.on_gpu { "GPU".to_string() } else { format!("{:.2} Mrays/s", timing.rays_per_second / 1e6) }
         ),
         format!(
             "{} | shadows {} refl {} refr {} aa {} | depth {} | {view}",

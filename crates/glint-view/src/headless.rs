@@ -68,7 +68,7 @@ fn bench(mut viewer: Viewer) -> Result<(), String> {
 /// view (a preview, composed) and to its first one-sample frame.
 fn latency(mut viewer: Viewer) -> (Duration, Duration) {
     let (done, results) = channel();
-    let worker = Worker::spawn(move |finished| {
+    let worker = Worker::spawn(crate::runner::Runner::new(viewer.gpu()), move |finished| {
         let _ = done.send(finished);
     });
     let (mut pictures, mut frames) = (Vec::new(), Vec::new());

@@ -4,14 +4,15 @@
 //! the pass schedule (a subsampled preview at once, then one sample per pixel, then
 //! more passes averaged while nothing moves) — so the window front end
 //! ([`window`]) only forwards events and shows pictures, and the headless mode and the
-//! tests drive the same code. Rendering is on the CPU through glint-core; the GPU
-//! backend is not wired in yet.
+//! tests drive the same code. Rendering is on the CPU through glint-core, or, with
+//! `--device gpu|auto`, the one-sample passes on the GPU backend ([`runner`]).
 
 pub mod camera;
 pub mod draw;
 pub mod explain;
 pub mod headless;
 pub mod pass;
+pub mod runner;
 pub mod viewer;
 pub mod watch;
 pub mod window;
@@ -55,10 +56,24 @@ pub struct ViewArgs {
     /// Hide the HUD (samples, timing, switches) at the start; `H` shows it.
     #[arg(long)]
     pub no_hud: bool,
+    /// Where the one-sample passes run, as for `glint render`: `gpu` (an error when
+    /// there is no GPU adapter or the scene has something the GPU does not render yet),
+    /// `auto` (a hardware GPU if there is one and the scene allows, else the CPU,
+    /// saying why) or `cpu`. Previews, debug views and explanations run on the CPU.
+    #[arg(long, value_enum, default_value_t = Device::Cpu)]
+    pub device: Device,
     /// Without a window: measure passes per second and the latency from an input to
     /// its first picture, and print them as JSON (bench/viewer_fps.sh).
     #[arg(long, requires = "no_window")]
     pub bench: bool,
+}
+
+/// `--device`.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Device {
+    Cpu,
+    Gpu,
+    Auto,
 }
 
 /// `X,Y` for --explain.
@@ -80,6 +95,7 @@ pub fn run(args: &ViewArgs) -> Result<(), String> {
         None => glint_scene::default_scene(),
     };
     let mut viewer = Viewer::new(desc.clone(), size(args, &desc))?;
+    viewer.use_gpu(choose_gpu(args.device, &viewer)?);
     if args.no_aa {
         viewer.handle(Input::Toggle(Toggle::AntiAliasing));
     }
@@ -90,6 +106,38 @@ pub fn run(args: &ViewArgs) -> Result<(), String> {
         return headless::run(viewer, args);
     }
     window::run(viewer, window::Files { scene: args.scene.clone(), output: args.output.clone() })
+}
+
+/// The GPU `device` asks for, kept for the whole session (hence leaked); `None` for
+/// the CPU. `auto` says on stderr why it chose the CPU.
+fn choose_gpu(device: Device, viewer: &Viewer) -> Result<Option<&'static glint_gpu::Gpu>, String> {
+    if device == Device::Cpu {
+        return Ok(None);
+    }
+    let unsupported = {
+        let scene = viewer.scene().lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        glint_gpu::upload::unsupported(&scene)
+    };
+    let chosen = match (device, unsupported) {
+        (Device::Gpu, Some(what)) => return Err(glint_gpu::GpuError::Unsupported(what).to_string()),
+        (Device::Gpu, None) => Ok(glint_gpu::Gpu::new().map_err(|e| e.to_string())?),
+        (_, Some(what)) => Err(format!("the GPU backend does not render {what} yet")),
+        (_, None) => match glint_gpu::Gpu::new() {
+            Ok(gpu) if gpu.is_hardware() => Ok(gpu),
+            Ok(gpu) => Err(format!("the only GPU adapter, {}, is a CPU driver", gpu.describe())),
+            Err(e) => Err(e.to_string()),
+        },
+    };
+    match chosen {
+        Ok(gpu) => {
+            eprintln!("glint view: sample passes run on {}", gpu.describe());
+            Ok(Some(Box::leak(Box::new(gpu))))
+        }
+        Err(why) => {
+            eprintln!("glint view: rendering on the CPU: {why}");
+            Ok(None)
+        }
+    }
 }
 
 /// The image size the flags ask for, the scene's for what they leave out.

@@ -30,6 +30,8 @@ pub enum PassKind {
 pub struct Job {
     /// Which state of the view this pass draws; results of older ones are dropped.
     pub generation: u64,
+    /// Which scene (counting reloads) the pass draws: a GPU render is of one scene.
+    pub scene_version: u64,
     pub kind: PassKind,
     pub camera: Camera,
     pub settings: Settings,
@@ -42,9 +44,17 @@ pub struct Finished {
     pub generation: u64,
     pub kind: PassKind,
     pub image: Image,
-    /// Rays traced (0 where the pass does not count them: previews, debug views).
+    /// Rays traced (0 where the pass does not count them: previews, debug views, the
+    /// GPU).
     pub rays: u64,
     pub elapsed: Duration,
+    /// `Some(n)`: the image is already the mean of the view's first `n` sample passes
+    /// (the GPU accumulates them itself); `None`: it is this pass alone.
+    pub mean_of: Option<u32>,
+    /// The pass ran on the GPU.
+    pub on_gpu: bool,
+    /// Something the user should know about this pass (it fell back to the CPU).
+    pub note: Option<String>,
 }
 
 /// Runs `job` on the current rayon pool; `None` when it was cancelled.
@@ -61,5 +71,14 @@ pub fn run(job: &Job) -> Option<Finished> {
             (image, stats.rays)
         }
     };
-    Some(Finished { generation: job.generation, kind: job.kind, image, rays, elapsed: start.elapsed() })
+    Some(Finished {
+        generation: job.generation,
+        kind: job.kind,
+        image,
+        rays,
+        elapsed: start.elapsed(),
+        mean_of: None,
+        on_gpu: false,
+        note: None,
+    })
 }

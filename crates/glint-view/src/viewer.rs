@@ -21,6 +21,7 @@ use glint_scene::image_out::{OutputFormat, write_image};
 
 use crate::camera::OrbitCamera;
 use crate::pass::{Finished, Job, PassKind};
+use crate::runner::Runner;
 
 /// The first preview's block size: 1/64 of the samples, so it is there at once.
 const FIRST_BLOCK: u32 = 8;
@@ -125,8 +126,11 @@ const VIEWS: [ViewMode; 7] = [
 pub struct Timing {
     /// Duration of the latest pass of any kind.
     pub last_pass: Duration,
-    /// Rays per second of the latest one-sample-per-pixel pass.
+    /// Rays per second of the latest one-sample-per-pixel pass (0 on the GPU, which
+    /// does not count them).
     pub rays_per_second: f64,
+    /// The latest one-sample-per-pixel pass ran on the GPU.
+    pub on_gpu: bool,
 }
 
 /// A pixel's ray tree, shown over the image until cleared.
@@ -143,6 +147,12 @@ pub struct Explained {
 pub struct Viewer {
     desc: SceneDesc,
     scene: Arc<Mutex<RenderScene>>,
+    /// Counts reloads: a GPU render is of one version of the scene.
+    scene_version: u64,
+    /// The GPU that runs sample passes, if the viewer was given one.
+    gpu: Option<&'static glint_gpu::Gpu>,
+    /// Runs [`Viewer::step`]'s passes (the window runs its own, on its render thread).
+    runner: Runner,
     /// The compiled scene's own settings, before the toggles apply.
     base: Settings,
     bounds: Aabb,
@@ -191,6 +201,9 @@ impl Viewer {
             image: Image::new(base.width, base.height),
             desc,
             scene: Arc::new(Mutex::new(scene)),
+            scene_version: 0,
+            gpu: None,
+            runner: Runner::new(None),
             base,
             bounds,
             toggles,
@@ -208,6 +221,19 @@ impl Viewer {
         };
         viewer.restart();
         Ok(viewer)
+    }
+
+    /// Runs the one-sample passes on `gpu` from now on (previews, debug views and
+    /// explanations stay on the CPU), or all passes on the CPU with `None`.
+    pub fn use_gpu(&mut self, gpu: Option<&'static glint_gpu::Gpu>) {
+        self.gpu = gpu;
+        self.runner = Runner::new(gpu);
+        self.restart();
+    }
+
+    /// The GPU sample passes run on, if any: a front end's own [`Runner`] takes it.
+    pub fn gpu(&self) -> Option<&'static glint_gpu::Gpu> {
+        self.gpu
     }
 
     /// Applies `input`; anything that changes the picture abandons the pass in flight
@@ -312,6 +338,7 @@ impl Viewer {
         self.in_flight = true;
         Some(Job {
             generation: self.generation,
+            scene_version: self.scene_version,
             kind,
             camera,
             settings: self.pass_settings(kind),
@@ -326,6 +353,9 @@ impl Viewer {
         self.in_flight = false;
         let done = finished.filter(|f| f.generation == self.generation)?;
         self.timing.last_pass = done.elapsed;
+        if let Some(note) = done.note {
+            self.status = Some(note);
+        }
         let shown = done.kind;
         self.next = match done.kind {
             PassKind::Preview(block) => {
@@ -338,7 +368,11 @@ impl Viewer {
             }
             PassKind::Sample(index) => {
                 self.timing.rays_per_second = done.rays as f64 / done.elapsed.as_secs_f64().max(1e-9);
-                self.accumulate(&done.image);
+                self.timing.on_gpu = done.on_gpu;
+                match done.mean_of {
+                    Some(passes) => (self.image, self.passes) = (done.image, passes),
+                    None => self.accumulate(&done.image),
+                }
                 (self.keeps_accumulating() && index + 1 < MAX_PASSES).then_some(PassKind::Sample(index + 1))
             }
         };
@@ -349,7 +383,7 @@ impl Viewer {
     /// one is in flight elsewhere).
     pub fn step(&mut self) -> bool {
         let Some(job) = self.next_job() else { return false };
-        let finished = crate::pass::run(&job);
+        let finished = self.runner.run(&job);
         self.finish(finished);
         true
     }
@@ -456,6 +490,7 @@ impl Viewer {
                 self.bounds = scene.bvh.bounds();
                 *self.scene.lock().unwrap_or_else(PoisonError::into_inner) = scene;
                 self.desc = desc;
+                self.scene_version += 1;
                 self.error = None;
                 self.explained = None;
                 self.restart();

@@ -44,7 +44,7 @@ pub struct Files {
 pub fn run(viewer: Viewer, files: Files) -> Result<(), String> {
     let event_loop = EventLoop::<Option<Finished>>::with_user_event().build().map_err(|e| no_window(&e))?;
     let proxy: EventLoopProxy<Option<Finished>> = event_loop.create_proxy();
-    let worker = Worker::spawn(move |done| {
+    let worker = Worker::spawn(crate::runner::Runner::new(viewer.gpu()), move |done| {
         let _ = proxy.send_event(done);
     });
     let watcher = files.scene.as_deref().map(|s| Watcher::new(s, Some(viewer.desc())));

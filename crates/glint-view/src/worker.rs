@@ -4,7 +4,8 @@
 use std::sync::mpsc::{Sender, channel};
 use std::thread::JoinHandle;
 
-use crate::pass::{Finished, Job, run};
+use crate::pass::{Finished, Job};
+use crate::runner::Runner;
 
 /// A thread that runs each [`Job`] it is sent and hands the result to a callback.
 pub struct Worker {
@@ -13,14 +14,15 @@ pub struct Worker {
 }
 
 impl Worker {
-    /// Starts the thread; `done` gets every result (`None`: the job was cancelled).
-    pub fn spawn(done: impl Fn(Option<Finished>) + Send + 'static) -> Self {
+    /// Starts the thread, which runs jobs with `runner`; `done` gets every result
+    /// (`None`: the job was cancelled).
+    pub fn spawn(mut runner: Runner, done: impl Fn(Option<Finished>) + Send + 'static) -> Self {
         let (jobs, inbox) = channel::<Job>();
         let thread = std::thread::Builder::new()
             .name("glint-view render".into())
             .spawn(move || {
                 for job in inbox {
-                    done(run(&job));
+                    done(runner.run(&job));
                 }
             })
             .expect("the OS refused to start the render thread");
