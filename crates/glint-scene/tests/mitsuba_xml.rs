@@ -595,3 +595,51 @@ fn a_normalmap_bsdf_gives_its_nested_bsdf_a_normal_map() {
         "normalmap",
     );
 }
+
+#[test]
+fn principled_reads_as_the_metallic_roughness_bsdf_and_names_the_lobes_it_leaves_out() {
+    let s = scene(
+        r#"<shape type="sphere"><bsdf type="principled">
+    <rgb name="base_color" value="0.8, 0.2, 0.1"/>
+    <float name="metallic" value="0.3"/>
+    <float name="roughness" value="0.4"/>
+    <float name="specular" value="0.5"/>
+    <float name="main_specular_sampling_rate" value="2"/>
+</bsdf></shape>"#,
+    );
+    let Some(BsdfDesc::MetallicRoughness { base, metallic, alpha, ior }) = s.materials[0].bsdf else {
+        panic!("{:?}", s.materials[0].bsdf)
+    };
+    close(base.value, Vec3::new(0.8, 0.2, 0.1));
+    assert_eq!(metallic.value, 0.3);
+    assert!((alpha.value - 0.16).abs() < 1e-6, "alpha = roughness²: {}", alpha.value);
+    assert!((ior - 1.5).abs() < 1e-3, "specular 0.5 is F0 = 4 %, an index of 1.5: {ior}");
+    // Defaults: grey, plastic, roughness 0.5; an explicit eta wins over specular.
+    let s = scene(r#"<shape type="sphere"><bsdf type="principled"><float name="eta" value="1.33"/></bsdf></shape>"#);
+    let Some(BsdfDesc::MetallicRoughness { base, metallic, alpha, ior }) = s.materials[0].bsdf else { panic!() };
+    assert_eq!((base.value, metallic.value, alpha.value, ior), (Vec3::splat(0.5), 0.0, 0.25, 1.33));
+    // Lobes glint lacks are left out with one warning naming them.
+    let loaded = parse_mitsuba(
+        "<scene version=\"3.0.0\"><sensor type=\"perspective\"/><shape type=\"sphere\"><bsdf type=\"principled\">\
+         <float name=\"clearcoat\" value=\"1\"/><float name=\"sheen\" value=\"0.5\"/><float name=\"clearcoat_gloss\" value=\"0.9\"/>\
+         </bsdf></shape></scene>",
+        "scene.xml",
+        Path::new("."),
+    )
+    .unwrap();
+    assert_eq!(loaded.warnings.len(), 1, "{:?}", loaded.warnings);
+    assert!(loaded.warnings[0].contains("sheen 0.5, clearcoat 1 left out"), "{:?}", loaded.warnings);
+}
+
+#[test]
+fn a_principled_roughness_texture_is_squared_into_the_alpha() {
+    let s = scene(
+        r#"<shape type="rectangle"><bsdf type="principled">
+    <texture type="checkerboard" name="roughness"><rgb name="color0" value="0.5"/><rgb name="color1" value="1"/></texture>
+</bsdf></shape>"#,
+    );
+    let Some(BsdfDesc::MetallicRoughness { alpha, .. }) = s.materials[0].bsdf else { panic!() };
+    let TextureDesc::Checker { even, odd, .. } = &s.textures[alpha.texture.expect("textured")] else { panic!() };
+    close(*even, Vec3::splat(0.25));
+    close(*odd, Vec3::ONE);
+}

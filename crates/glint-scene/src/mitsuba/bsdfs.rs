@@ -1,7 +1,8 @@
 //! BSDF plugins → [`BsdfDesc`] inside a [`MaterialDesc`]: `diffuse`, `conductor`,
 //! `roughconductor`, `dielectric`, `roughdielectric`, `thindielectric`, `plastic`,
-//! `roughplastic`, and `twosided` around one of them. Rough ones take Mitsuba's
-//! `distribution`: `beckmann` (its default) or `ggx`.
+//! `roughplastic`, `principled` (as glint's metallic-roughness BSDF), and `twosided`
+//! around one of them. Rough ones take Mitsuba's `distribution`: `beckmann` (its
+//! default) or `ggx`.
 
 use glam::Vec3;
 use glint_core::desc::{BsdfDesc, ColorParam, MaterialDesc, MicrofacetKind, NormalMapDesc, ScalarParam};
@@ -14,7 +15,25 @@ use super::values::{Plugin, Value};
 use crate::error::SceneError;
 
 /// Parameters that only change how a BSDF is sampled, never what it computes.
-const HARMLESS: [&str; 1] = ["sample_visible"];
+const HARMLESS: [&str; 5] = [
+    "sample_visible",
+    "main_specular_sampling_rate",
+    "clearcoat_sampling_rate",
+    "diffuse_reflectance_sampling_rate",
+    "spec_trans_sampling_rate",
+];
+
+/// `principled` lobes glint's metallic-roughness BSDF does not have, with the value
+/// that turns each off (Mitsuba's default).
+const PRINCIPLED_EXTRAS: [(&str, f32); 7] = [
+    ("anisotropic", 0.0),
+    ("sheen", 0.0),
+    ("sheen_tint", 0.0),
+    ("clearcoat", 0.0),
+    ("spec_trans", 0.0),
+    ("spec_tint", 0.0),
+    ("flatness", 0.0),
+];
 
 /// Mitsuba's default roughness of the rough BSDFs.
 const DEFAULT_ALPHA: f32 = 0.1;
@@ -94,10 +113,11 @@ fn surface<'a>(r: &mut Reader<'a>, e: &'a Elem) -> Result<Surface, SceneError> {
         "conductor" | "roughconductor" => conductor(r, &p)?,
         "dielectric" | "roughdielectric" | "thindielectric" => dielectric(r, &p)?,
         "plastic" | "roughplastic" => plastic(r, &p)?,
+        "principled" => principled(r, &p)?,
         other => {
             return Err(p.error(format!(
                 "BSDF type '{other}' is not supported; glint reads diffuse, conductor, roughconductor, dielectric, \
-                 roughdielectric, thindielectric, plastic, roughplastic, twosided and normalmap"
+                 roughdielectric, thindielectric, plastic, roughplastic, principled, twosided and normalmap"
             )));
         }
     };
@@ -186,6 +206,58 @@ fn conductor<'a>(r: &mut Reader<'a>, p: &Plugin<'a>) -> Result<Surface, SceneErr
     let base = ColorParam { value: specular.value * f0, texture: specular.texture };
     Ok(Surface {
         bsdf: BsdfDesc::Conductor { eta, k, specular, alpha },
+        two_sided: false,
+        base,
+        microfacet: MicrofacetKind::Ggx,
+        normal_map: None,
+    })
+}
+
+/// Mitsuba's Disney-style `principled` BSDF (what Blender's exporter writes for its
+/// Principled BSDF) read as glint's metallic-roughness BSDF: base colour, metallic and
+/// roughness (each may be a texture; `alpha = roughness²`), and the coat's index from
+/// `eta`, else from `specular` (F0 = 0.08·specular, as Mitsuba has it). The lobes glint
+/// does not have are left out, named in one warning when they are set.
+fn principled<'a>(r: &mut Reader<'a>, p: &Plugin<'a>) -> Result<Surface, SceneError> {
+    let base = color_param(r, p, "base_color", Vec3::splat(0.5))?;
+    let metallic = scalar_param(r, p, "metallic", 0.0)?;
+    let roughness = scalar_param(r, p, "roughness", 0.5)?;
+    let alpha = ScalarParam {
+        value: roughness.value * roughness.value,
+        texture: roughness.texture.map(|t| r.squared_texture(t)),
+    };
+    let ior = match p.float("eta")? {
+        Some(eta) if eta > 0.0 && eta != 1.0 => eta,
+        Some(eta) => return Err(p.param_error("eta", format!("{eta} is not an index of refraction above 0 and not 1"))),
+        None => {
+            let f0 = (0.08 * p.float_or("specular", 0.5)?).clamp(0.0, 0.99).sqrt();
+            ((1.0 + f0) / (1.0 - f0)).max(1.0 + 1e-3)
+        }
+    };
+    let mut left_out = Vec::new();
+    for (name, off) in PRINCIPLED_EXTRAS {
+        if p.named_object(name).is_some() {
+            left_out.push(format!("{name} (a texture)"));
+        } else if let Some(v) = p.float(name)?.filter(|&v| v != off) {
+            left_out.push(format!("{name} {v}"));
+        }
+    }
+    // Only the clearcoat (left out above) reads its gloss.
+    if p.named_object("clearcoat_gloss").is_none() {
+        p.float("clearcoat_gloss")?;
+    }
+    if !left_out.is_empty() {
+        r.warn_at(
+            p.elem,
+            format!(
+                "{}: {} left out: glint's metallic-roughness BSDF has no such lobes",
+                p.label(),
+                left_out.join(", ")
+            ),
+        );
+    }
+    Ok(Surface {
+        bsdf: BsdfDesc::MetallicRoughness { base, metallic, alpha, ior },
         two_sided: false,
         base,
         microfacet: MicrofacetKind::Ggx,

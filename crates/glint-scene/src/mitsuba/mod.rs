@@ -27,7 +27,7 @@ use std::collections::HashMap;
 use std::path::Path;
 use std::rc::Rc;
 
-use glint_core::desc::{MaterialDesc, SceneDesc};
+use glint_core::desc::{MaterialDesc, SceneDesc, TextureDesc};
 
 use crate::detect::{Loaded, SceneFormat};
 use crate::error::SceneError;
@@ -103,6 +103,8 @@ struct Reader<'a> {
     materials: HashMap<*const Elem, usize>,
     /// Texture index of each texture element already loaded.
     textures: HashMap<*const Elem, usize>,
+    /// The squared copy of each texture that needed one (a principled roughness).
+    squared: HashMap<usize, usize>,
     sensor_seen: bool,
     integrator_seen: bool,
     warnings: Vec<String>,
@@ -119,6 +121,7 @@ impl<'a> Reader<'a> {
             scene,
             materials: HashMap::new(),
             textures: HashMap::new(),
+            squared: HashMap::new(),
             sensor_seen: false,
             integrator_seen: false,
             warnings: Vec::new(),
@@ -190,6 +193,34 @@ impl<'a> Reader<'a> {
     }
 
     /// Adds a material and returns its index.
+    /// A warning at element `e`.
+    fn warn_at(&mut self, e: &Elem, message: String) {
+        self.warnings.push(format!("{}: {message}", e.file.origin(e.pos)));
+    }
+
+    /// The index of a copy of texture `index` with every value squared (a perceptual
+    /// roughness map read as the GGX alpha), made once.
+    fn squared_texture(&mut self, index: usize) -> usize {
+        if let Some(&i) = self.squared.get(&index) {
+            return i;
+        }
+        let mut copy = self.scene.textures[index].clone();
+        match &mut copy {
+            TextureDesc::Image { name, texels, .. } => {
+                name.push_str(" squared");
+                texels.iter_mut().for_each(|t| *t *= *t);
+            }
+            TextureDesc::Checker { name, even, odd, .. } => {
+                name.push_str(" squared");
+                (*even, *odd) = (*even * *even, *odd * *odd);
+            }
+        }
+        self.scene.textures.push(copy);
+        let i = self.scene.textures.len() - 1;
+        self.squared.insert(index, i);
+        i
+    }
+
     fn add_material(&mut self, m: MaterialDesc) -> usize {
         self.scene.materials.push(m);
         self.scene.materials.len() - 1

@@ -108,6 +108,9 @@ fn check_uv(r: &Reader, p: &Plugin, shape: ShapeDesc, material: usize) -> Result
             Some(BsdfDesc::Conductor { specular, alpha, .. }) => specular.texture.is_some() || alpha.texture.is_some(),
             Some(BsdfDesc::Dielectric { alpha, .. }) => alpha.texture.is_some(),
             Some(BsdfDesc::Plastic { diffuse, alpha, .. }) => diffuse.texture.is_some() || alpha.texture.is_some(),
+            Some(BsdfDesc::MetallicRoughness { base, metallic, alpha, .. }) => {
+                base.texture.is_some() || metallic.texture.is_some() || alpha.texture.is_some()
+            }
             _ => false,
         };
     if textured {
