@@ -155,6 +155,7 @@ def render(
     filter: Optional[str] = None,
     filter_radius: Optional[float] = None,
     adaptive: Optional[Tuple[int, int, float]] = None,
+    camera: Optional[int] = None,
     threads: int = 0,
     progress: Progress = True,
 ) -> Image:
@@ -170,8 +171,9 @@ def render(
     ``sampler`` (``"sobol"``/``"independent"``) for the path integrator; ``pattern``
     (``"grid"``, ``"corners"``, ``"jittered"``, ``"sobol"``); ``filter`` (``"box"``,
     ``"tent"``, ``"gaussian"``, ``"mitchell"``, ``"lanczos"``) and ``filter_radius``;
-    ``adaptive`` as ``(min, max, threshold)``. ``threads`` = 0 uses every core; the
-    image is the same for any count.
+    ``adaptive`` as ``(min, max, threshold)``; ``camera`` picks one of the file's
+    cameras (a glTF model or a pbrt-v4 scene may hold several), from 0. ``threads`` = 0
+    uses every core; the image is the same for any count.
 
     The GIL is released while tracing, so other Python threads run. Ctrl-C stops the
     render between tiles and raises ``KeyboardInterrupt``. ``progress=True`` shows a
@@ -199,6 +201,7 @@ def render(
             filter=filter,
             filter_radius=filter_radius,
             adaptive=adaptive,
+            camera=camera,
         )
         pixels, transfer = _glint.render_job(job, threads=threads, progress=callback)
     finally:

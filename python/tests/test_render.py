@@ -69,6 +69,9 @@ def test_bad_settings_raise_value_errors_naming_them(scenes):
         glint.render(scene, rr_depth=3, **SMALL)
     with pytest.raises(ValueError, match="max_depth"):
         glint.render(scene, max_depth="deep", **SMALL)
+    with pytest.raises(ValueError, match="camera 1 was asked for, but the scene has 1 camera"):
+        glint.render(scene, camera=1, **SMALL)
+    assert np.array_equal(glint.render(scene, camera=0, **SMALL), glint.render(scene, **SMALL))
     with pytest.raises(glint.SceneError, match="spp 0 is out of range"):
         glint.render(scene, spp=0, **SMALL)
     with pytest.raises(OverflowError):

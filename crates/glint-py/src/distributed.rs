@@ -78,7 +78,7 @@ pub fn _job_from_json(json: &[u8]) -> PyResult<Job> {
 #[pyfunction]
 #[pyo3(signature = (scene, *, spp=None, width=None, height=None, integrator=None, seed=None,
     samples=None, max_depth=None, rr_depth=None, sampler=None, pattern=None, filter=None,
-    filter_radius=None, adaptive=None))]
+    filter_radius=None, adaptive=None, camera=None))]
 #[allow(clippy::too_many_arguments)] // Python keyword arguments, one per command-line flag.
 pub fn prepare(
     py: Python<'_>,
@@ -96,6 +96,7 @@ pub fn prepare(
     filter: Option<String>,
     filter_radius: Option<f32>,
     adaptive: Option<(u32, u32, f32)>,
+    camera: Option<usize>,
 ) -> PyResult<Job> {
     let kwargs = RenderKwargs {
         width,
@@ -111,6 +112,7 @@ pub fn prepare(
         filter_radius,
         adaptive,
         seed,
+        camera,
     };
     let mut desc = scene.desc.clone();
     kwargs.overrides()?.apply(&mut desc).map_err(override_error)?;

@@ -21,6 +21,8 @@ pub struct RenderKwargs {
     pub filter_radius: Option<f32>,
     pub adaptive: Option<(u32, u32, f32)>,
     pub seed: Option<u32>,
+    /// Which of the file's cameras looks, from 0 (`glint render --camera`).
+    pub camera: Option<usize>,
 }
 
 /// `max_depth`: a whole number, or -1 / `"unlimited"` (path integrator only).
@@ -82,7 +84,7 @@ impl RenderKwargs {
                 threshold,
             }),
             seed: self.seed,
-            camera: None,
+            camera: self.camera,
         })
     }
 }
