@@ -503,7 +503,7 @@ fn rough_plugins_take_mitsubas_distribution_beckmann_by_default() {
 
 #[test]
 fn unsupported_input_is_refused_at_its_line() {
-    assert_error("<shape type=\"sphere\">\n<bsdf type=\"principled\"/></shape>", 3, "BSDF type 'principled'");
+    assert_error("<shape type=\"sphere\">\n<bsdf type=\"blendbsdf\"/></shape>", 3, "BSDF type 'blendbsdf'");
     assert_error(
         "<shape type=\"sphere\">\n<bsdf type=\"roughconductor\"><string name=\"distribution\" value=\"phong\"/></bsdf></shape>",
         3,
