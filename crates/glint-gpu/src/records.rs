@@ -158,6 +158,17 @@ pub struct GpuMesh {
     pub color_offset: u32,
 }
 
+/// Floats per quadric in the float array: its ten coefficients, then `min` and `max`.
+/// A quadric is plain f32s in that order (checked below), so it goes up as it is.
+pub const QUADRIC_FLOATS: usize = 16;
+const _: () = {
+    use glint_core::shape::Quadric;
+    assert!(std::mem::size_of::<Quadric>() == 4 * QUADRIC_FLOATS);
+    assert!(std::mem::offset_of!(Quadric, coefficients) == 0);
+    assert!(std::mem::offset_of!(Quadric, min) == 40);
+    assert!(std::mem::offset_of!(Quadric, max) == 52);
+};
+
 /// "No such array" in an offset field.
 pub const NONE: u32 = u32::MAX;
 
@@ -231,7 +242,8 @@ pub struct Params {
     pub light_count: u32,
     /// Whitted: the pixel pattern's seed (jittered and Sobol).
     pub pattern_seed: u32,
-    pub reserved1: u32,
+    /// Float-array index of the quadrics: 16 floats each (see [`QUADRIC_FLOATS`]).
+    pub quadric_offset: u32,
     /// 1 when some instance moves: each path then draws a time in the shutter.
     pub has_motion: u32,
     pub background: [f32; 4],
@@ -299,7 +311,7 @@ gpu_record!(pub PARAMS = Params as "Params" {
     per_axis: U32 => per_axis,
     light_count: U32 => light_count,
     pattern_seed: U32 => pattern_seed,
-    reserved1: U32 => reserved1,
+    quadric_offset: U32 => quadric_offset,
     has_motion: U32 => has_motion,
     background: Vec4 => background,
     ambient: Vec4 => ambient,

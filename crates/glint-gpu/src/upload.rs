@@ -59,6 +59,7 @@ fn unsupported_shape(scene: &RenderScene) -> Option<String> {
                 | ShapeKind::Disk
                 | ShapeKind::Rectangle
                 | ShapeKind::Mesh
+                | ShapeKind::Quadric
         )
     });
     kind.map(|k| format!("{k:?} shapes"))
@@ -244,7 +245,13 @@ fn params(scene: &RenderScene, a: &mut Arrays, texel_offset: u32, instance_emitt
         per_axis: s.sampler.per_axis,
         light_count: scene.lights.len() as u32,
         pattern_seed: s.sampler.seed,
-        reserved1: 0,
+        quadric_offset: a.push_floats(
+            scene
+                .shape_tables
+                .quadrics
+                .iter()
+                .flat_map(|q| q.coefficients.into_iter().chain(q.min.to_array()).chain(q.max.to_array())),
+        ),
         has_motion: (!scene.motions.is_empty()) as u32,
         background: vec4(s.background),
         ambient: vec4(s.ambient_light),

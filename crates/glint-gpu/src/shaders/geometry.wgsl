@@ -639,6 +639,9 @@ fn intersect_instance(index: u32, r: Ray, t_max: f32, any_hit: bool) -> ShapeHit
     if inst.kind == KIND_MESH {
         return trace_mesh(meshes[bitcast<u32>(inst.param)], local, t_max, any_hit);
     }
+    if inst.kind == KIND_QUADRIC {
+        return intersect_quadric(bitcast<u32>(inst.param), local, t_max);
+    }
     return intersect_analytic(inst.kind, local, t_max);
 }
 
@@ -794,7 +797,12 @@ fn hit_from(r: Ray, found: SceneHit) -> Hit {
     hit.part = h.part;
     let to_world = xform.world_from_object;
     if inst.kind != KIND_MESH {
-        let s = analytic_surface(inst.kind, local, h);
+        var s: SurfacePoint;
+        if inst.kind == KIND_QUADRIC {
+            s = quadric_surface(bitcast<u32>(inst.param), local, h);
+        } else {
+            s = analytic_surface(inst.kind, local, h);
+        }
         let n = normalize_or(normal_to_world(xform, s.normal), vec3<f32>(0.0, 1.0, 0.0));
         hit.point = (to_world * vec4<f32>(s.point, 1.0)).xyz;
         hit.normal = n;
