@@ -24,10 +24,11 @@ pub mod binding {
     pub const STORAGE_COUNT: u32 = 14;
 }
 
-const MODULES: [&str; 9] = [
+const MODULES: [&str; 10] = [
     include_str!("shaders/common.wgsl"),
     include_str!("shaders/geometry.wgsl"),
     include_str!("shaders/quadric.wgsl"),
+    include_str!("shaders/torus.wgsl"),
     include_str!("shaders/bsdf.wgsl"),
     include_str!("shaders/emitter.wgsl"),
     include_str!("shaders/path.wgsl"),

@@ -60,6 +60,7 @@ fn unsupported_shape(scene: &RenderScene) -> Option<String> {
                 | ShapeKind::Rectangle
                 | ShapeKind::Mesh
                 | ShapeKind::Quadric
+                | ShapeKind::Torus
         )
     });
     kind.map(|k| format!("{k:?} shapes"))

@@ -642,6 +642,9 @@ fn intersect_instance(index: u32, r: Ray, t_max: f32, any_hit: bool) -> ShapeHit
     if inst.kind == KIND_QUADRIC {
         return intersect_quadric(bitcast<u32>(inst.param), local, t_max);
     }
+    if inst.kind == KIND_TORUS {
+        return intersect_torus(inst.param, local, t_max);
+    }
     return intersect_analytic(inst.kind, local, t_max);
 }
 
@@ -800,6 +803,8 @@ fn hit_from(r: Ray, found: SceneHit) -> Hit {
         var s: SurfacePoint;
         if inst.kind == KIND_QUADRIC {
             s = quadric_surface(bitcast<u32>(inst.param), local, h);
+        } else if inst.kind == KIND_TORUS {
+            s = torus_surface(inst.param, local, h);
         } else {
             s = analytic_surface(inst.kind, local, h);
         }
