@@ -12,6 +12,7 @@ use glint_core::light::Light;
 use glint_core::material::Material;
 use glint_core::mesh::Triangle4;
 use glint_core::scene::{Instance, Motion};
+use glint_core::shape::CsgNode;
 use glint_core::texture::Texture;
 
 use crate::gpu_record;
@@ -157,6 +158,19 @@ pub struct GpuMesh {
     /// Float-array index of the vertex colours, or [`NONE`] without them.
     pub color_offset: u32,
 }
+
+gpu_record!(pub CSG_NODE = CsgNode as "CsgNode" {
+    world_from_object: Mat4 => transform.world_from_object,
+    object_from_world: Mat4 => transform.object_from_world,
+    min: Vec3 => min,
+    op: U32 => op,
+    max: Vec3 => max,
+    material: U32 => material,
+    kind: U32 => shape.kind,
+    param: F32 => shape.param,
+    first: U32 => first,
+    pad: U32 => _pad,
+});
 
 /// Floats per quadric in the float array: its ten coefficients, then `min` and `max`.
 /// A quadric is plain f32s in that order (checked below), so it goes up as it is.
@@ -326,5 +340,5 @@ gpu_record!(pub PARAMS = Params as "Params" {
 });
 
 /// Every record, for the layout test and for generating the shader prelude.
-pub const ALL: [Record; 11] =
-    [INSTANCE, WIDE_NODE, TRIANGLE4, BSDF, EMITTER, TEXTURE, MOTION, MATERIAL, LIGHT, GPU_MESH, PARAMS];
+pub const ALL: [Record; 12] =
+    [INSTANCE, WIDE_NODE, TRIANGLE4, BSDF, EMITTER, TEXTURE, MOTION, MATERIAL, LIGHT, CSG_NODE, GPU_MESH, PARAMS];

@@ -645,6 +645,9 @@ fn intersect_instance(index: u32, r: Ray, t_max: f32, any_hit: bool) -> ShapeHit
     if inst.kind == KIND_TORUS {
         return intersect_torus(inst.param, local, t_max);
     }
+    if inst.kind == KIND_CSG {
+        return intersect_csg(bitcast<u32>(inst.param), local, t_max);
+    }
     return intersect_analytic(inst.kind, local, t_max);
 }
 
@@ -805,6 +808,9 @@ fn hit_from(r: Ray, found: SceneHit) -> Hit {
             s = quadric_surface(bitcast<u32>(inst.param), local, h);
         } else if inst.kind == KIND_TORUS {
             s = torus_surface(inst.param, local, h);
+        } else if inst.kind == KIND_CSG {
+            s = csg_surface(local, h);
+            hit.material = csg_material(h.part);
         } else {
             s = analytic_surface(inst.kind, local, h);
         }

@@ -151,19 +151,20 @@ fn quadratic_spans(a: f32, b: f32, c: f32) -> QuadraticSpans {
     return out;
 }
 
-fn intersect_quadric(q: u32, r: Ray, t_max: f32) -> ShapeHit {
+// The quadric's spans along the ray, clipped to its box (Quadric::spans_array).
+fn quadric_spans(q: u32, r: Ray) -> SpanList {
+    var out = span_list();
     var clip = span_all();
     var centre = vec3<f32>(0.0);
     if quadric_bounded(q) {
         let b = box_span(r, quadric_min(q), quadric_max(q));
         if !b.found {
-            return no_hit();
+            return out;
         }
         clip = b.span;
         centre = 0.5 * (quadric_min(q) + quadric_max(q));
     }
-    let dd = dot(r.dir, r.dir);
-    var t0 = dot(centre - r.origin, r.dir) / dd;
+    var t0 = dot(centre - r.origin, r.dir) / dot(r.dir, r.dir);
     if !finite(t0) {
         t0 = 0.0;
     }
@@ -173,22 +174,22 @@ fn intersect_quadric(q: u32, r: Ray, t_max: f32) -> ShapeHit {
     let b = 2.0 * dot(o, qd) + dot(quadric_g(q), r.dir);
     let c = quadric_value(q, o);
     let spans = quadratic_spans(a, b, c);
-    // first_crossing over the clipped spans, in order.
     for (var k = 0u; k < spans.count; k += 1u) {
         var s = spans.spans[k];
         s.enter = t0 + s.enter;
         s.exit = t0 + s.exit;
-        if clip.enter > s.enter {
-            s.enter = clip.enter;
-            s.enter_part = clip.enter_part;
+        s = clip_span(s, clip);
+        if s.enter < s.exit {
+            push_span(&out, s);
         }
-        if clip.exit < s.exit {
-            s.exit = clip.exit;
-            s.exit_part = clip.exit_part;
-        }
-        if !(s.enter < s.exit) {
-            continue;
-        }
+    }
+    return out;
+}
+
+// The first span end in (0, t_max) (glint_core::shape::span::first_crossing).
+fn first_crossing(l: SpanList, t_max: f32) -> ShapeHit {
+    for (var k = 0u; k < l.count; k += 1u) {
+        let s = l.spans[k];
         if s.enter > 0.0 {
             if s.enter < t_max {
                 return shape_hit(s.enter, s.enter_part);
@@ -203,6 +204,10 @@ fn intersect_quadric(q: u32, r: Ray, t_max: f32) -> ShapeHit {
         }
     }
     return no_hit();
+}
+
+fn intersect_quadric(q: u32, r: Ray, t_max: f32) -> ShapeHit {
+    return first_crossing(quadric_spans(q, r), t_max);
 }
 
 fn box_uv(p: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>) -> vec2<f32> {

@@ -110,6 +110,45 @@ fn solve_quartic(a: f32, b: f32, c: f32, d: f32) -> Roots {
     return roots;
 }
 
+// The torus's spans along the ray: between consecutive roots where the quartic is
+// negative at the middle, touching spans merged (Torus::spans).
+fn torus_spans(minor: f32, r: Ray) -> SpanList {
+    var out = span_list();
+    let speed = length(r.dir);
+    let u = r.dir / speed;
+    let t0 = -dot(r.origin, u) / speed;
+    let p = r.origin + u * (t0 * speed);
+    let outer = 1.0 + minor;
+    if dot(p, p) > outer * outer {
+        return out;
+    }
+    let k = dot(p, p) + 1.0 - minor * minor;
+    let pu = dot(p, u);
+    let c = vec4<f32>(
+        4.0 * pu,
+        4.0 * pu * pu + 2.0 * k - 4.0 * (u.x * u.x + u.z * u.z),
+        4.0 * pu * k - 8.0 * (p.x * u.x + p.z * u.z),
+        k * k - 4.0 * (p.x * p.x + p.z * p.z),
+    );
+    let roots = solve_quartic(c.x, c.y, c.z, c.w);
+    for (var i = 0u; i + 1u < roots.count; i += 1u) {
+        let s0 = roots.t[i];
+        let s1 = roots.t[i + 1u];
+        let a = t0 + s0 / speed;
+        let b = t0 + s1 / speed;
+        let m = 0.5 * (s0 + s1);
+        let value = (((m + c.x) * m + c.y) * m + c.z) * m + c.w;
+        if a < b && value < 0.0 {
+            if out.count > 0u && out.spans[out.count - 1u].exit >= a {
+                out.spans[out.count - 1u].exit = b;
+            } else {
+                push_span(&out, Span(a, 0u, b, 0u));
+            }
+        }
+    }
+    return out;
+}
+
 fn intersect_torus(minor: f32, r: Ray, t_max: f32) -> ShapeHit {
     let speed = length(r.dir);
     let u = r.dir / speed;
