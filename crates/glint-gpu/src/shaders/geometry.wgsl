@@ -719,10 +719,6 @@ fn trace_scene(r: Ray, t_max_in: f32, any_hit: bool) -> SceneHit {
     return result;
 }
 
-fn occluded(r: Ray, t_max: f32) -> bool {
-    return trace_scene(r, t_max, true).found;
-}
-
 // World-space surface data at a hit (glint_core::scene::Hit).
 struct Hit {
     t: f32,
