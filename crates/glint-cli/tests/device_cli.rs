@@ -22,28 +22,28 @@ fn has_adapter() -> bool {
 }
 
 #[test]
-fn gpu_refuses_a_csg_scene_in_one_sentence_and_writes_nothing() {
-    let out = temp("csg.png");
+fn gpu_refuses_a_blob_scene_in_one_sentence_and_writes_nothing() {
+    let out = temp("blobs.png");
     let output =
-        glint().args(["render", "--device", "gpu", "-q", "-o"]).arg(&out).arg(scene("csg.glint")).output().unwrap();
+        glint().args(["render", "--device", "gpu", "-q", "-o"]).arg(&out).arg(scene("blobs.glint")).output().unwrap();
     assert!(!output.status.success());
     let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(stderr.contains("cannot be rendered on the GPU yet: Csg shapes"), "{stderr}");
+    assert!(stderr.contains("cannot be rendered on the GPU yet: Blob shapes"), "{stderr}");
     assert!(!out.exists());
 }
 
 #[test]
-fn auto_renders_a_csg_scene_on_the_cpu_and_says_so() {
+fn auto_renders_a_blob_scene_on_the_cpu_and_says_so() {
     let out = temp("auto.png");
     let output = glint()
         .args(["render", "--device", "auto", "--width", "16", "--height", "12", "-o"])
         .arg(&out)
-        .arg(scene("csg.glint"))
+        .arg(scene("blobs.glint"))
         .output()
         .unwrap();
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
     let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(stderr.contains("rendering on the CPU: the GPU backend does not render Csg shapes yet"), "{stderr}");
+    assert!(stderr.contains("rendering on the CPU: the GPU backend does not render Blob shapes yet"), "{stderr}");
     assert!(out.exists());
     let _ = std::fs::remove_file(out);
 }

@@ -12,6 +12,7 @@ use glint_core::light::Light;
 use glint_core::material::Material;
 use glint_core::mesh::Triangle4;
 use glint_core::scene::{Instance, Motion};
+use glint_core::shape::CsgNode;
 use glint_core::texture::Texture;
 
 use crate::gpu_record;
@@ -158,6 +159,30 @@ pub struct GpuMesh {
     pub color_offset: u32,
 }
 
+gpu_record!(pub CSG_NODE = CsgNode as "CsgNode" {
+    world_from_object: Mat4 => transform.world_from_object,
+    object_from_world: Mat4 => transform.object_from_world,
+    min: Vec3 => min,
+    op: U32 => op,
+    max: Vec3 => max,
+    material: U32 => material,
+    kind: U32 => shape.kind,
+    param: F32 => shape.param,
+    first: U32 => first,
+    pad: U32 => _pad,
+});
+
+/// Floats per quadric in the float array: its ten coefficients, then `min` and `max`.
+/// A quadric is plain f32s in that order (checked below), so it goes up as it is.
+pub const QUADRIC_FLOATS: usize = 16;
+const _: () = {
+    use glint_core::shape::Quadric;
+    assert!(std::mem::size_of::<Quadric>() == 4 * QUADRIC_FLOATS);
+    assert!(std::mem::offset_of!(Quadric, coefficients) == 0);
+    assert!(std::mem::offset_of!(Quadric, min) == 40);
+    assert!(std::mem::offset_of!(Quadric, max) == 52);
+};
+
 /// "No such array" in an offset field.
 pub const NONE: u32 = u32::MAX;
 
@@ -231,7 +256,8 @@ pub struct Params {
     pub light_count: u32,
     /// Whitted: the pixel pattern's seed (jittered and Sobol).
     pub pattern_seed: u32,
-    pub reserved1: u32,
+    /// Float-array index of the quadrics: 16 floats each (see [`QUADRIC_FLOATS`]).
+    pub quadric_offset: u32,
     /// 1 when some instance moves: each path then draws a time in the shutter.
     pub has_motion: u32,
     pub background: [f32; 4],
@@ -299,7 +325,7 @@ gpu_record!(pub PARAMS = Params as "Params" {
     per_axis: U32 => per_axis,
     light_count: U32 => light_count,
     pattern_seed: U32 => pattern_seed,
-    reserved1: U32 => reserved1,
+    quadric_offset: U32 => quadric_offset,
     has_motion: U32 => has_motion,
     background: Vec4 => background,
     ambient: Vec4 => ambient,
@@ -314,5 +340,5 @@ gpu_record!(pub PARAMS = Params as "Params" {
 });
 
 /// Every record, for the layout test and for generating the shader prelude.
-pub const ALL: [Record; 11] =
-    [INSTANCE, WIDE_NODE, TRIANGLE4, BSDF, EMITTER, TEXTURE, MOTION, MATERIAL, LIGHT, GPU_MESH, PARAMS];
+pub const ALL: [Record; 12] =
+    [INSTANCE, WIDE_NODE, TRIANGLE4, BSDF, EMITTER, TEXTURE, MOTION, MATERIAL, LIGHT, CSG_NODE, GPU_MESH, PARAMS];

@@ -228,6 +228,7 @@ impl Kernels {
             (binding::SAMPLES, samples),
             (binding::ACCUM, accum),
             (binding::MOTIONS, &b.motions),
+            (binding::CSG_NODES, &b.csg_nodes),
         ];
         let entries: Vec<_> = entries
             .iter()
@@ -363,7 +364,9 @@ fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     for b in [binding::SAMPLES, binding::ACCUM] {
         entries.push(entry(b, wgpu::BufferBindingType::Storage { read_only: false }));
     }
-    entries.push(entry(binding::MOTIONS, wgpu::BufferBindingType::Storage { read_only: true }));
+    for b in [binding::MOTIONS, binding::CSG_NODES] {
+        entries.push(entry(b, wgpu::BufferBindingType::Storage { read_only: true }));
+    }
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("scene"), entries: &entries })
 }
 

@@ -20,13 +20,17 @@ pub mod binding {
     pub const SAMPLES: u32 = 12;
     pub const ACCUM: u32 = 13;
     pub const MOTIONS: u32 = 14;
+    pub const CSG_NODES: u32 = 15;
     /// Storage buffers (everything but the parameters).
-    pub const STORAGE_COUNT: u32 = 14;
+    pub const STORAGE_COUNT: u32 = 15;
 }
 
-const MODULES: [&str; 8] = [
+const MODULES: [&str; 11] = [
     include_str!("shaders/common.wgsl"),
     include_str!("shaders/geometry.wgsl"),
+    include_str!("shaders/quadric.wgsl"),
+    include_str!("shaders/torus.wgsl"),
+    include_str!("shaders/csg.wgsl"),
     include_str!("shaders/bsdf.wgsl"),
     include_str!("shaders/emitter.wgsl"),
     include_str!("shaders/path.wgsl"),
@@ -55,6 +59,7 @@ pub fn bindings() -> String {
     out += &storage(WORDS, "words", "array<u32>");
     out += &storage(TEXTURES, "textures", "array<Texture>");
     out += &storage(MOTIONS, "motions", "array<Motion>");
+    out += &storage(CSG_NODES, "csg_nodes", "array<CsgNode>");
     out += &storage(MATERIALS, "materials", "array<Material>");
     out += &storage(LIGHTS, "lights", "array<Light>");
     out += &format!("@group(0) @binding({SAMPLES}) var<storage, read_write> samples: array<vec4<f32>>;\n");

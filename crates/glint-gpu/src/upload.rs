@@ -8,7 +8,7 @@ use glam::{Mat3, Mat4, Vec3};
 use glint_core::desc::{Features, IntegratorDesc, SamplerKind};
 use glint_core::sampling::SamplePattern;
 use glint_core::scene::RenderScene;
-use glint_core::shape::ShapeKind;
+use glint_core::shape::{CsgOp, ShapeKind};
 use wgpu::util::DeviceExt;
 
 use crate::device::{Gpu, GpuError};
@@ -31,6 +31,7 @@ pub(crate) struct SceneBuffers {
     pub words: wgpu::Buffer,
     pub textures: wgpu::Buffer,
     pub motions: wgpu::Buffer,
+    pub csg_nodes: wgpu::Buffer,
     pub materials: wgpu::Buffer,
     pub lights: wgpu::Buffer,
 }
@@ -48,6 +49,21 @@ pub fn unsupported(scene: &RenderScene) -> Option<String> {
 }
 
 fn unsupported_shape(scene: &RenderScene) -> Option<String> {
+    let leaf = scene.shape_tables.csg_nodes.iter().filter(|n| n.op == CsgOp::Leaf).map(|n| n.shape.kind).find(|k| {
+        !matches!(
+            k,
+            ShapeKind::Sphere
+                | ShapeKind::Cube
+                | ShapeKind::Cylinder
+                | ShapeKind::Cone
+                | ShapeKind::Plane
+                | ShapeKind::Torus
+                | ShapeKind::Quadric
+        )
+    });
+    if let Some(k) = leaf {
+        return Some(format!("CSG with {k:?} operands"));
+    }
     let kind = scene.instances.iter().map(|i| i.shape.kind).find(|k| {
         !matches!(
             k,
@@ -59,6 +75,9 @@ fn unsupported_shape(scene: &RenderScene) -> Option<String> {
                 | ShapeKind::Disk
                 | ShapeKind::Rectangle
                 | ShapeKind::Mesh
+                | ShapeKind::Quadric
+                | ShapeKind::Torus
+                | ShapeKind::Csg
         )
     });
     kind.map(|k| format!("{k:?} shapes"))
@@ -163,6 +182,7 @@ impl GpuScene {
             words: buffer("triangle indices", bytemuck::cast_slice(&a.words))?,
             textures: buffer("textures", records_bytes(&scene.textures))?,
             motions: buffer("motions", records_bytes(&scene.motions))?,
+            csg_nodes: buffer("CSG nodes", records_bytes(&scene.shape_tables.csg_nodes))?,
             materials: buffer("Whitted materials", records_bytes(&scene.materials))?,
             lights: buffer("lights", records_bytes(&scene.lights))?,
         };
@@ -223,7 +243,13 @@ fn params(scene: &RenderScene, a: &mut Arrays, texel_offset: u32, instance_emitt
         instance_emitter_offset,
         has_transmissive: scene.has_transmissive as u32,
         light_count: scene.lights.len() as u32,
-        reserved1: 0,
+        quadric_offset: a.push_floats(
+            scene
+                .shape_tables
+                .quadrics
+                .iter()
+                .flat_map(|q| q.coefficients.into_iter().chain(q.min.to_array()).chain(q.max.to_array())),
+        ),
         has_motion: (!scene.motions.is_empty()) as u32,
         env_scale: [0.0; 4],
         env_from_world: Mat4::IDENTITY,

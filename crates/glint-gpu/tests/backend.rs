@@ -27,6 +27,8 @@ cube { material "red" scale 0.3 rotate [0 1 0] 30 translate [-0.3 0.3 -0.4] }
 cylinder { material "white" scale [0.25 0.4 0.25] translate [0.4 0.4 0] }
 cone { material "red" scale [0.3 0.4 0.3] translate [1.1 0.4 -0.2] }
 disk { material "white" scale 0.3 rotate [1 0 0] 60 translate [-0.6 1.3 -0.5] }
+torus { minor_radius 0.25 material "white" rotate [1 0 0] 50 scale 0.3 translate [-0.2 1.6 0] }
+quadric { coefficients [1 -0.25 1 0 0 0 0 0 0 -0.16] bounds [-1 -1 -1] [1 1 1] material "red" scale 0.3 translate [0.8 1.3 0.2] }
 plane { material "white" translate [0 -0.01 0] }
 mesh_instance "ball" { material "red" scale 0.3 translate [0.2 1.3 -0.6] }
 material "ghost" { bsdf diffuse { reflectance [0.6 0.5 0.2] } casts_shadows false }

@@ -19,10 +19,11 @@ fn a_scene_over_the_buffer_limit_is_refused_naming_the_limit() {
 
 #[test]
 fn features_the_gpu_lacks_are_named() {
-    let mut csg = common::scene_file("csg.glint", 8, 8, 1);
-    csg.settings.integrator = glint_core::desc::IntegratorDesc::Path(Default::default());
-    let why = glint_gpu::upload::unsupported(&csg).expect("CSG is not on the GPU yet");
-    assert!(why.contains("Csg"), "{why}");
+    let blobs = common::scene_file("blobs.glint", 8, 8, 1);
+    let why = glint_gpu::upload::unsupported(&blobs).expect("blobs are not on the GPU yet");
+    assert!(why.contains("Blob"), "{why}");
+    let csg = common::scene_file("csg.glint", 8, 8, 1);
+    assert_eq!(glint_gpu::upload::unsupported(&csg), None, "CSG of analytic solids runs on the GPU");
     let adaptive = common::scene_file("soft-shadows.glint", 8, 8, 1);
     let why = glint_gpu::upload::unsupported(&adaptive).expect("adaptive sampling is not on the GPU yet");
     assert!(why.contains("adaptive sampling"), "{why}");

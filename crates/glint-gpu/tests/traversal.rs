@@ -21,6 +21,15 @@ cone { material "m" scale 0.6 translate [-2 -1 0.5] }
 disk { material "m" rotate [1 0 0] 70 translate [0 -1.3 0] }
 rectangle { material "m" scale 0.5 rotate [0 1 1] 40 translate [2 -1 0] }
 plane { material "m" translate [0 -2.5 0] }
+difference {
+  material "m"
+  intersection { cube { } sphere { scale 1.35 } }
+  union { cylinder { scale [0.55 1.6 0.55] } cylinder { scale [0.55 1.6 0.55] rotate [1 0 0] 90 } }
+  scale 0.5 rotate [1 1 0] 25 translate [-1.8 1.6 -1]
+}
+torus { minor_radius 0.3 material "m" rotate [1 0 0] 60 scale 0.6 translate [-1.5 -0.2 1.5] }
+quadric { coefficients [1 -0.25 1 0 0 0 0 0 0 -0.16] bounds [-1 -1 -1] [1 1 1] material "m" scale 0.6 translate [1.2 1.6 1] }
+quadric { coefficients [1 0 1 0.3 0 0 0 0.1 0 -0.05] material "m" rotate [1 0 0] 90 translate [0 0 -3] }
 mesh_instance "tri" { material "m" scale 0.8 translate [-0.8 -0.4 1.5] }
 mesh_instance "tri" { material "m" rotate [0 1 0] 60 scale [1 0.5 1] translate [1 0 2] }
 "#;

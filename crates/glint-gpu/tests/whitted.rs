@@ -243,9 +243,14 @@ fn example_scenes_match_the_cpu() {
         check(&format!("whitted {name}"), &s, &gpu);
         rendered.push(name.clone());
     }
-    for expected in
-        ["cornell-path.glint", "cornell-whitted.glint", "default.glint", "mesh-instances.glint", "soft-shadows.glint"]
-    {
+    for expected in [
+        "cornell-path.glint",
+        "cornell-whitted.glint",
+        "csg.glint",
+        "default.glint",
+        "mesh-instances.glint",
+        "soft-shadows.glint",
+    ] {
         assert!(rendered.iter().any(|n| n == expected), "{expected} was not compared: {rendered:?}");
     }
 }

@@ -639,6 +639,15 @@ fn intersect_instance(index: u32, r: Ray, t_max: f32, any_hit: bool) -> ShapeHit
     if inst.kind == KIND_MESH {
         return trace_mesh(meshes[bitcast<u32>(inst.param)], local, t_max, any_hit);
     }
+    if inst.kind == KIND_QUADRIC {
+        return intersect_quadric(bitcast<u32>(inst.param), local, t_max);
+    }
+    if inst.kind == KIND_TORUS {
+        return intersect_torus(inst.param, local, t_max);
+    }
+    if inst.kind == KIND_CSG {
+        return intersect_csg(bitcast<u32>(inst.param), local, t_max);
+    }
     return intersect_analytic(inst.kind, local, t_max);
 }
 
@@ -648,71 +657,66 @@ fn casts_no_shadow(i: u32) -> bool {
 }
 
 // The closest hit in (0, t_max) over every instance, or any hit (for shadow rays, past
-// instances that cast no shadow) when `any_hit`.
+// instances that cast no shadow) when `any_hit`. Every candidate range of instances (a
+// BVH leaf as it is popped, then the unbounded instances past params.bounded_count)
+// goes through one call of intersect_instance: drivers that inline every call (Mesa)
+// then compile the shapes once per call of trace_scene.
 fn trace_scene(r: Ray, t_max_in: f32, any_hit: bool) -> SceneHit {
     var result = SceneHit(false, 0u, no_hit());
     var t_max = t_max_in;
-    if params.node_count > 0u {
-        let s = slab_ray(r);
-        var stack_index: array<u32, 64>;
-        var stack_count: array<u32, 64>;
-        var stack_near: array<f32, 64>;
-        var top = 1u;
-        stack_index[0] = 0u;
-        stack_count[0] = 0u;
-        stack_near[0] = 0.0;
-        while top > 0u {
+    let s = slab_ray(r);
+    var stack_index: array<u32, 64>;
+    var stack_count: array<u32, 64>;
+    var stack_near: array<f32, 64>;
+    var top = select(0u, 1u, params.node_count > 0u);
+    stack_index[0] = 0u;
+    stack_count[0] = 0u;
+    stack_near[0] = 0.0;
+    var unbounded_done = false;
+    loop {
+        var first: u32;
+        var count: u32;
+        if top > 0u {
             top -= 1u;
             if stack_near[top] > t_max {
                 continue;
             }
-            let index = stack_index[top];
-            let count = stack_count[top];
-            if count > 0u {
-                for (var i = index; i < index + count; i += 1u) {
-                    if any_hit && casts_no_shadow(i) {
-                        continue;
-                    }
-                    let h = intersect_instance(i, r, t_max, any_hit);
-                    if h.found {
-                        result = SceneHit(true, i, h);
-                        t_max = h.t;
-                        if any_hit {
-                            return result;
-                        }
+            first = stack_index[top];
+            count = stack_count[top];
+            if count == 0u {
+                let hits = test_node(s, first, t_max);
+                for (var k = hits.count; k > 0u; k -= 1u) {
+                    if top < 64u {
+                        stack_index[top] = hits.child[k - 1u];
+                        stack_count[top] = hits.leaves[k - 1u];
+                        stack_near[top] = hits.near[k - 1u];
+                        top += 1u;
                     }
                 }
                 continue;
             }
-            let hits = test_node(s, index, t_max);
-            for (var k = hits.count; k > 0u; k -= 1u) {
-                if top < 64u {
-                    stack_index[top] = hits.child[k - 1u];
-                    stack_count[top] = hits.leaves[k - 1u];
-                    stack_near[top] = hits.near[k - 1u];
-                    top += 1u;
+        } else if !unbounded_done {
+            unbounded_done = true;
+            first = params.bounded_count;
+            count = params.instance_count - params.bounded_count;
+        } else {
+            break;
+        }
+        for (var i = first; i < first + count; i += 1u) {
+            if any_hit && casts_no_shadow(i) {
+                continue;
+            }
+            let h = intersect_instance(i, r, t_max, any_hit);
+            if h.found {
+                result = SceneHit(true, i, h);
+                t_max = h.t;
+                if any_hit {
+                    return result;
                 }
             }
         }
     }
-    for (var i = params.bounded_count; i < params.instance_count; i += 1u) {
-        if any_hit && casts_no_shadow(i) {
-            continue;
-        }
-        let h = intersect_instance(i, r, t_max, any_hit);
-        if h.found {
-            result = SceneHit(true, i, h);
-            t_max = h.t;
-            if any_hit {
-                return result;
-            }
-        }
-    }
     return result;
-}
-
-fn occluded(r: Ray, t_max: f32) -> bool {
-    return trace_scene(r, t_max, true).found;
 }
 
 // World-space surface data at a hit (glint_core::scene::Hit).
@@ -795,7 +799,17 @@ fn hit_from(r: Ray, found: SceneHit) -> Hit {
     hit.part = h.part;
     let to_world = xform.world_from_object;
     if inst.kind != KIND_MESH {
-        let s = analytic_surface(inst.kind, local, h);
+        var s: SurfacePoint;
+        if inst.kind == KIND_QUADRIC {
+            s = quadric_surface(bitcast<u32>(inst.param), local, h);
+        } else if inst.kind == KIND_TORUS {
+            s = torus_surface(inst.param, local, h);
+        } else if inst.kind == KIND_CSG {
+            s = csg_surface(local, h);
+            hit.material = csg_material(h.part);
+        } else {
+            s = analytic_surface(inst.kind, local, h);
+        }
         let n = normalize_or(normal_to_world(xform, s.normal), vec3<f32>(0.0, 1.0, 0.0));
         hit.point = (to_world * vec4<f32>(s.point, 1.0)).xyz;
         hit.normal = n;

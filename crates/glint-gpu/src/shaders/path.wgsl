@@ -84,9 +84,24 @@ fn environment_light(r: Ray, previous: Bounce) -> vec3<f32> {
     return l;
 }
 
-fn direct_light(hit: Hit, bsdf: SurfaceBsdf, f: Frame, wo: vec3<f32>, u_select: f32, u: vec2<f32>, time: f32) -> vec3<f32> {
+// A shadow ray of next-event estimation, traced later (any hit, up to t_max): `found`
+// when one was sampled, and what the path gains (throughput included) if unoccluded.
+struct ShadowTest {
+    found: bool,
+    ray: Ray,
+    t_max: f32,
+    contribution: vec3<f32>,
+}
+
+fn no_shadow_test() -> ShadowTest {
+    return ShadowTest(false, Ray(vec3<f32>(0.0), vec3<f32>(0.0), 0.0), 0.0, vec3<f32>(0.0));
+}
+
+// Next-event estimation: one light sampled, its MIS-weighted contribution, and the
+// shadow ray that decides whether it counts.
+fn direct_light(hit: Hit, bsdf: SurfaceBsdf, f: Frame, wo: vec3<f32>, u_select: f32, u: vec2<f32>, time: f32) -> ShadowTest {
     if params.emitter_count == 0u {
-        return vec3<f32>(0.0);
+        return no_shadow_test();
     }
     let index = sample_discrete(params.light_cdf_offset, params.emitter_count, u_select).index;
     let p_select = light_probability(index);
@@ -94,39 +109,40 @@ fn direct_light(hit: Hit, bsdf: SurfaceBsdf, f: Frame, wo: vec3<f32>, u_select: 
     var sample: LightSample;
     if e.kind == EM_ENVIRONMENT {
         if params.environment_kind == ENV_NONE {
-            return vec3<f32>(0.0);
+            return no_shadow_test();
         }
         sample = sample_environment(u);
     } else {
         sample = sample_emitter(e, hit.point, u);
     }
     if !sample.found || !(sample.pdf > 0.0) || all(sample.radiance == vec3<f32>(0.0)) {
-        return vec3<f32>(0.0);
+        return no_shadow_test();
     }
     let wi = to_local(f, sample.wi);
     if !same_side_story(hit, to_world(f, wo), sample.wi, wo, wi) {
-        return vec3<f32>(0.0);
+        return no_shadow_test();
     }
     let value = bsdf_eval(bsdf, wo, wi) * abs(wi.z);
     if all(value == vec3<f32>(0.0)) {
-        return vec3<f32>(0.0);
+        return no_shadow_test();
     }
     let origin = offset_ray_origin(hit.point, side_normal(hit, sample.wi));
     var t_max = INF;
     if finite(sample.distance) && sample.distance < INF {
         t_max = sample.distance * (1.0 - 1e-4);
     }
-    if occluded(Ray(origin, sample.wi, time), t_max) {
-        return vec3<f32>(0.0);
-    }
     let light_pdf = p_select * sample.pdf;
     var weight = 1.0;
     if !sample.delta {
         weight = power_heuristic(light_pdf, bsdf_pdf(bsdf, wo, wi));
     }
-    return value * sample.radiance * (weight / light_pdf);
+    return ShadowTest(true, Ray(origin, sample.wi, time), t_max, value * sample.radiance * (weight / light_pdf));
 }
 
+// One loop iteration traces one ray: the pending shadow ray of next-event estimation
+// if there is one, else the path's next extension ray. Drivers that inline every call
+// (Mesa) then compile the scene's intersection code once in this kernel. The numbers
+// are drawn, and contributions added, in the CPU's order.
 fn path_radiance(camera_ray: Ray, sampler: ptr<function, PathSampler>) -> vec3<f32> {
     if params.max_depth == 0u {
         return vec3<f32>(0.0);
@@ -137,8 +153,27 @@ fn path_radiance(camera_ray: Ray, sampler: ptr<function, PathSampler>) -> vec3<f
     var r = camera_ray;
     var previous = Bounce(false, vec3<f32>(0.0), 0.0, false);
     var depth = 0u;
+    var shadow = no_shadow_test();
+    // The path has ended; only its last shadow ray may remain.
+    var ended = false;
     loop {
-        let found = trace_scene(r, INF, false);
+        if ended && !shadow.found {
+            break;
+        }
+        var ray = r;
+        var t_max = INF;
+        if shadow.found {
+            ray = shadow.ray;
+            t_max = shadow.t_max;
+        }
+        let found = trace_scene(ray, t_max, shadow.found);
+        if shadow.found {
+            if !found.found {
+                radiance += shadow.contribution;
+            }
+            shadow.found = false;
+            continue;
+        }
         if !found.found {
             radiance += throughput * environment_light(r, previous);
             break;
@@ -157,15 +192,18 @@ fn path_radiance(camera_ray: Ray, sampler: ptr<function, PathSampler>) -> vec3<f
         let u_light = next_2d(sampler);
         let u_dir = next_2d(sampler);
         if has_non_delta(bsdf) {
-            radiance += throughput * direct_light(hit, bsdf, f, wo, choices.x, u_light, r.time);
+            shadow = direct_light(hit, bsdf, f, wo, choices.x, u_light, r.time);
+            shadow.contribution = throughput * shadow.contribution;
         }
         let s = bsdf_sample(bsdf, wo, choices.y, u_dir);
         if !s.found {
-            break;
+            ended = true;
+            continue;
         }
         let wi = to_world(f, s.wi);
         if !same_side_story(hit, wo_world, wi, wo, s.wi) {
-            break;
+            ended = true;
+            continue;
         }
         throughput *= s.weight;
         eta *= s.eta;
@@ -174,12 +212,14 @@ fn path_radiance(camera_ray: Ray, sampler: ptr<function, PathSampler>) -> vec3<f
         depth += 1u;
         let most = max3(throughput);
         if !(most > 0.0) || !finite3(throughput) {
-            break;
+            ended = true;
+            continue;
         }
         if depth >= params.rr_depth {
             let survive = min(most * eta * eta, 0.95);
             if next_1d(sampler) >= survive {
-                break;
+                ended = true;
+                continue;
             }
             throughput /= survive;
         }

@@ -180,42 +180,6 @@ fn light_sample(l: Light, p: vec3<f32>, index: u32, jitter: vec2<f32>) -> Incide
     return Incidence(offset / distance, distance, share * f_att(l, distance) * v3(l.color));
 }
 
-// ---- shadows (glint_core::scene::RenderScene::transmittance) ----
-
-// The fraction of light crossing the segment 0 < t < t_max: zero if an opaque surface
-// blocks it, else the product of k_t·O_t of every surface crossed.
-fn transmittance(shadow_ray: Ray, t_max: f32) -> vec3<f32> {
-    if params.has_transmissive == 0u {
-        return select(vec3<f32>(1.0), vec3<f32>(0.0), occluded(shadow_ray, t_max));
-    }
-    var shadow_filter = vec3<f32>(1.0);
-    var r = shadow_ray;
-    var t_left = t_max;
-    for (var crossing = 0u; crossing < 64u; crossing += 1u) {
-        let found = trace_scene(r, t_left, false);
-        if !found.found {
-            return shadow_filter;
-        }
-        let hit = hit_from(r, found);
-        if !casts_no_shadow(found.instance) {
-            shadow_filter *= v3(materials[hit.material].transmissive);
-        }
-        if max3(shadow_filter) <= 0.0 {
-            return vec3<f32>(0.0);
-        }
-        let ng = hit.geometric_normal;
-        let side = select(-ng, ng, dot(ng, r.dir) > 0.0);
-        let origin = offset_ray_origin(hit.point, side);
-        // Keep the far end fixed; an infinite segment (a directional light) stays so.
-        if t_left < INF {
-            let end = ray_at(r, t_left);
-            t_left = dot(end - origin, r.dir) / dot(r.dir, r.dir);
-        }
-        r.origin = origin;
-    }
-    return vec3<f32>(0.0);
-}
-
 // ---- shading ----
 
 // Mirror direction of d about the unit normal n: d − 2(d·n)n.
@@ -251,56 +215,6 @@ fn pow_nonnegative(x: f32, y: f32) -> f32 {
     return pow(x, y);
 }
 
-// whitted::direct_lighting: ambient plus every unshadowed light's diffuse and specular
-// terms. `n` faces the viewer and `v` points to it; each light sample draws its jitter.
-fn direct_lighting(hit: Hit, m: Material, n: vec3<f32>, v: vec3<f32>, time: f32, rng: ptr<function, u32>) -> vec3<f32> {
-    var diffuse = v3(m.diffuse);
-    if feature(FEATURE_TEXTURES) && m.texture != NO_TEXTURE {
-        let texel = texture_sample(m.texture, hit.uv * v2(m.texture_repeat));
-        diffuse = (1.0 - m.blend) * diffuse + m.blend * m.kd * texel;
-    }
-    diffuse *= hit.color;
-    let specular = v3(m.specular);
-    var color = params.ambient.xyz * v3(m.ambient) * hit.color;
-    // Seen from outside, a smooth mesh's shadow rays start on the surface its normals
-    // describe (Hanika 2021).
-    let outside = dot(hit.geometric_normal, n) >= 0.0;
-    let ng = select(-hit.geometric_normal, hit.geometric_normal, outside);
-    let shadow_origin = offset_ray_origin(select(hit.point, hit.shadow_point, outside), ng);
-    for (var li = 0u; li < params.light_count; li += 1u) {
-        let l = lights[li];
-        let count = light_sample_count(l);
-        for (var index = 0u; index < count; index += 1u) {
-            let jx = rng_next_f32(rng);
-            let jy = rng_next_f32(rng);
-            let incidence = light_sample(l, hit.point, index, vec2<f32>(jx, jy));
-            let n_dot_l = dot(n, incidence.to_light);
-            if n_dot_l <= 0.0 || all(incidence.radiance == vec3<f32>(0.0)) {
-                continue;
-            }
-            var shadow_filter = vec3<f32>(1.0);
-            if feature(FEATURE_SHADOWS) {
-                let shadow_ray = Ray(shadow_origin, incidence.to_light, time);
-                if feature(FEATURE_TRANSPARENT_SHADOWS) {
-                    shadow_filter = transmittance(shadow_ray, incidence.distance);
-                } else if occluded(shadow_ray, incidence.distance) {
-                    shadow_filter = vec3<f32>(0.0);
-                }
-            }
-            if all(shadow_filter == vec3<f32>(0.0)) {
-                continue;
-            }
-            let r = reflect_dir(-incidence.to_light, n);
-            var highlight = 0.0;
-            if any(specular != vec3<f32>(0.0)) {
-                highlight = pow_nonnegative(max(dot(r, v), 0.0), m.shininess);
-            }
-            color += shadow_filter * incidence.radiance * (diffuse * n_dot_l + specular * highlight);
-        }
-    }
-    return color;
-}
-
 // A ray still to shade: its depth in the ray tree and the product of the k·O factors
 // that lead to it from the pixel.
 struct Pending {
@@ -314,64 +228,219 @@ struct Pending {
 // children just pushed: max_depth (≤ 64) + 1 entries at most.
 const WHITTED_STACK: u32 = 66u;
 
+// A hit being shaded (whitted::direct_lighting), kept across the loop iterations that
+// trace its shadow rays.
+struct Shading {
+    // The ray that found the hit.
+    entry: Pending,
+    hit: Hit,
+    m: Material,
+    // The unit ray direction; n faces the viewer and ng, the true surface's normal on
+    // the same side, carries the ray offsets.
+    d: vec3<f32>,
+    entering: bool,
+    n: vec3<f32>,
+    ng: vec3<f32>,
+    diffuse: vec3<f32>,
+    specular: vec3<f32>,
+    shadow_origin: vec3<f32>,
+    // Ambient plus the light samples added so far.
+    direct: vec3<f32>,
+    // The next light sample to draw: the light and its sample index.
+    light: u32,
+    sample: u32,
+    // The sample whose shadow ray is traced: its incidence and the Phong factor
+    // k_d (n·l) + k_s (r·v)^shininess it is multiplied by.
+    incidence: Incidence,
+    phong: vec3<f32>,
+}
+
+fn shading_of(entry: Pending, r: Ray, hit: Hit) -> Shading {
+    var s: Shading;
+    s.entry = entry;
+    s.hit = hit;
+    let m = materials[hit.material];
+    s.m = m;
+    s.d = normalize(r.dir);
+    s.entering = dot(hit.geometric_normal, s.d) < 0.0;
+    s.n = select(-hit.normal, hit.normal, s.entering);
+    s.ng = select(-hit.geometric_normal, hit.geometric_normal, s.entering);
+    var diffuse = v3(m.diffuse);
+    if feature(FEATURE_TEXTURES) && m.texture != NO_TEXTURE {
+        let texel = texture_sample(m.texture, hit.uv * v2(m.texture_repeat));
+        diffuse = (1.0 - m.blend) * diffuse + m.blend * m.kd * texel;
+    }
+    s.diffuse = diffuse * hit.color;
+    s.specular = v3(m.specular);
+    s.direct = params.ambient.xyz * v3(m.ambient) * hit.color;
+    // Seen from outside, a smooth mesh's shadow rays start on the surface its normals
+    // describe (Hanika 2021).
+    let outside = dot(hit.geometric_normal, s.n) >= 0.0;
+    let shadow_side = select(-hit.geometric_normal, hit.geometric_normal, outside);
+    s.shadow_origin = offset_ray_origin(select(hit.point, hit.shadow_point, outside), shadow_side);
+    s.light = 0u;
+    s.sample = 0u;
+    return s;
+}
+
+// Draws light samples (each its jitter) until one needs a shadow ray: true, with its
+// incidence and Phong factor in `s`. Without shadows, samples are added at once.
+fn next_light_sample(s: ptr<function, Shading>, rng: ptr<function, u32>) -> bool {
+    while (*s).light < params.light_count {
+        let l = lights[(*s).light];
+        if (*s).sample >= light_sample_count(l) {
+            (*s).light += 1u;
+            (*s).sample = 0u;
+            continue;
+        }
+        let index = (*s).sample;
+        (*s).sample += 1u;
+        let jx = rng_next_f32(rng);
+        let jy = rng_next_f32(rng);
+        let incidence = light_sample(l, (*s).hit.point, index, vec2<f32>(jx, jy));
+        let n_dot_l = dot((*s).n, incidence.to_light);
+        if n_dot_l <= 0.0 || all(incidence.radiance == vec3<f32>(0.0)) {
+            continue;
+        }
+        let r = reflect_dir(-incidence.to_light, (*s).n);
+        var highlight = 0.0;
+        if any((*s).specular != vec3<f32>(0.0)) {
+            highlight = pow_nonnegative(max(dot(r, -(*s).d), 0.0), (*s).m.shininess);
+        }
+        (*s).incidence = incidence;
+        (*s).phong = (*s).diffuse * n_dot_l + (*s).specular * highlight;
+        if !feature(FEATURE_SHADOWS) {
+            (*s).direct += vec3<f32>(1.0) * incidence.radiance * (*s).phong;
+            continue;
+        }
+        return true;
+    }
+    return false;
+}
+
 // whitted::radiance of a camera ray. Every hit adds weight × (its direct lighting),
-// every miss weight × background: the recursive sum, expanded.
+// every miss weight × background: the recursive sum, expanded. One loop iteration
+// traces one ray: a camera, reflected or transmitted ray, or a shadow ray of the hit
+// being shaded, so that drivers that inline every call (Mesa) compile the scene's
+// intersection code once in this kernel. Light samples draw their jitter and add
+// their terms in the CPU's order.
 fn whitted_radiance(camera: Ray, rng: ptr<function, u32>) -> vec3<f32> {
     var stack: array<Pending, WHITTED_STACK>;
-    stack[0] = Pending(camera.origin, camera.dir, 0u, vec3<f32>(1.0));
-    var top = 1u;
+    var top = 0u;
     var color = vec3<f32>(0.0);
-    while top > 0u {
-        top -= 1u;
-        let e = stack[top];
-        let r = Ray(e.origin, e.dir, camera.time);
-        let found = trace_scene(r, INF, false);
-        if !found.found {
+    var entry = Pending(camera.origin, camera.dir, 0u, vec3<f32>(1.0));
+    var r = camera;
+    var t_max = INF;
+    var shading: Shading;
+    var shading_active = false;
+    // Whether r is a shadow ray of `shading`: an any-hit test when every surface is
+    // opaque to it, else the surfaces it crosses one at a time
+    // (glint_core::scene::RenderScene::transmittance): zero if an opaque surface blocks
+    // it, else the product of k_t·O_t of every surface crossed.
+    var shadow = false;
+    var any_hit = false;
+    var shadow_filter = vec3<f32>(1.0);
+    var crossing = 0u;
+    loop {
+        let found = trace_scene(r, t_max, any_hit);
+        var hit: Hit;
+        if found.found && !any_hit {
+            hit = hit_from(r, found);
+        }
+        if shadow {
+            if any_hit {
+                if found.found {
+                    shadow_filter = vec3<f32>(0.0);
+                }
+            } else if found.found {
+                if !casts_no_shadow(found.instance) {
+                    shadow_filter *= v3(materials[hit.material].transmissive);
+                }
+                crossing += 1u;
+                if max3(shadow_filter) <= 0.0 || crossing >= 64u {
+                    shadow_filter = vec3<f32>(0.0);
+                } else {
+                    let ng = hit.geometric_normal;
+                    let side = select(-ng, ng, dot(ng, r.dir) > 0.0);
+                    let origin = offset_ray_origin(hit.point, side);
+                    // Keep the far end fixed; an infinite segment (a directional light) stays so.
+                    if t_max < INF {
+                        let end = ray_at(r, t_max);
+                        t_max = dot(end - origin, r.dir) / dot(r.dir, r.dir);
+                    }
+                    r.origin = origin;
+                    continue;
+                }
+            }
+            if !all(shadow_filter == vec3<f32>(0.0)) {
+                shading.direct += shadow_filter * shading.incidence.radiance * shading.phong;
+            }
+        } else if !found.found {
             var background = params.background.xyz;
             if params.environment_kind != ENV_NONE {
                 background = env_radiance(r.dir);
             }
-            color += e.weight * background;
+            color += entry.weight * background;
+        } else {
+            shading = shading_of(entry, r, hit);
+            shading_active = true;
+        }
+        if shading_active && next_light_sample(&shading, rng) {
+            r = Ray(shading.shadow_origin, shading.incidence.to_light, camera.time);
+            t_max = shading.incidence.distance;
+            any_hit = !(feature(FEATURE_TRANSPARENT_SHADOWS) && params.has_transmissive != 0u);
+            shadow = true;
+            shadow_filter = vec3<f32>(1.0);
+            crossing = 0u;
             continue;
         }
-        let hit = hit_from(r, found);
-        let m = materials[hit.material];
-        let d = normalize(r.dir);
-        // Shade the side the ray arrived on: n faces the viewer; the true surface (ng)
-        // decides the side and carries the ray offsets.
-        let entering = dot(hit.geometric_normal, d) < 0.0;
-        let n = select(-hit.normal, hit.normal, entering);
-        let ng = select(-hit.geometric_normal, hit.geometric_normal, entering);
-        color += e.weight * direct_lighting(hit, m, n, -d, camera.time, rng);
-        if e.depth >= params.max_depth {
-            continue;
-        }
-        let reflected_dir = reflect_dir(d, n);
-        let reflect_weight = e.weight * v3(m.reflective);
-        let transmit_weight = e.weight * v3(m.transmissive);
-        // Push the transmitted ray first so that the reflected subtree is shaded (and
-        // draws its numbers) first, as the CPU recursion does.
-        if feature(FEATURE_REFRACTIONS) && max3(transmit_weight) > params.min_contribution && top < WHITTED_STACK {
-            var eta = m.ior;
-            if entering {
-                eta = 1.0 / m.ior;
+        if shading_active {
+            shading_active = false;
+            let e = shading.entry;
+            let m = shading.m;
+            color += e.weight * shading.direct;
+            if e.depth < params.max_depth {
+                let point = shading.hit.point;
+                let d = shading.d;
+                let n = shading.n;
+                let ng = shading.ng;
+                let reflected_dir = reflect_dir(d, n);
+                let reflect_weight = e.weight * v3(m.reflective);
+                let transmit_weight = e.weight * v3(m.transmissive);
+                // Push the transmitted ray first so that the reflected subtree is shaded
+                // (and draws its numbers) first, as the CPU recursion does.
+                if feature(FEATURE_REFRACTIONS) && max3(transmit_weight) > params.min_contribution && top < WHITTED_STACK {
+                    var eta = m.ior;
+                    if shading.entering {
+                        eta = 1.0 / m.ior;
+                    }
+                    var t = Refraction(true, d);
+                    if m.ior != 1.0 {
+                        t = refract_dir(d, n, eta);
+                    }
+                    if t.found {
+                        stack[top] = Pending(offset_ray_origin(point, -ng), t.dir, e.depth + 1u, transmit_weight);
+                    } else {
+                        // Total internal reflection: the transmitted share is reflected instead.
+                        stack[top] = Pending(offset_ray_origin(point, ng), reflected_dir, e.depth + 1u, transmit_weight);
+                    }
+                    top += 1u;
+                }
+                if feature(FEATURE_REFLECTIONS) && max3(reflect_weight) > params.min_contribution && top < WHITTED_STACK {
+                    stack[top] = Pending(offset_ray_origin(point, ng), reflected_dir, e.depth + 1u, reflect_weight);
+                    top += 1u;
+                }
             }
-            var t = Refraction(true, d);
-            if m.ior != 1.0 {
-                t = refract_dir(d, n, eta);
-            }
-            if t.found {
-                stack[top] = Pending(offset_ray_origin(hit.point, -ng), t.dir, e.depth + 1u, transmit_weight);
-            } else {
-                // Total internal reflection: the transmitted share is reflected instead.
-                stack[top] = Pending(offset_ray_origin(hit.point, ng), reflected_dir, e.depth + 1u, transmit_weight);
-            }
-            top += 1u;
         }
-        if feature(FEATURE_REFLECTIONS) && max3(reflect_weight) > params.min_contribution && top < WHITTED_STACK {
-            stack[top] = Pending(offset_ray_origin(hit.point, ng), reflected_dir, e.depth + 1u, reflect_weight);
-            top += 1u;
+        if top == 0u {
+            break;
         }
+        top -= 1u;
+        entry = stack[top];
+        r = Ray(entry.origin, entry.dir, camera.time);
+        t_max = INF;
+        any_hit = false;
+        shadow = false;
     }
     return color;
 }
