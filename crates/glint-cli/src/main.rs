@@ -472,7 +472,7 @@ fn render_scene_to(args: &RenderArgs, mut desc: SceneDesc, output: &Path, cancel
         device => device,
     };
     if let Some(gpu) = choose_gpu(device, &scene, args.quiet)? {
-        return render_on_gpu(&gpu, &scene, args, (output, format), desc.settings.output_transfer, cancel);
+        return render_on_gpu(&gpu, (&scene, &desc), args, (output, format), cancel);
     }
     let checkpointer = checkpointer(args, &desc, &scene)?;
     if let Some(saved) = checkpointer.as_ref().map(|c| c.store().len()).filter(|&n| n > 0 && !args.quiet) {
@@ -657,12 +657,12 @@ fn choose_gpu(
 /// `--progressive` behaviour as on the CPU.
 fn render_on_gpu(
     gpu: &glint_gpu::Gpu,
-    scene: &glint_core::scene::RenderScene,
+    (scene, desc): (&glint_core::scene::RenderScene, &SceneDesc),
     args: &RenderArgs,
     (output, format): (&Path, OutputFormat),
-    transfer: Transfer,
     cancel: &AtomicBool,
 ) -> Result<(), Failure> {
+    let transfer = desc.settings.output_transfer;
     let start = Instant::now();
     let mut film = glint_gpu::Progressive::new(gpu, scene)?;
     let setup = start.elapsed().as_secs_f64();
@@ -698,6 +698,7 @@ fn render_on_gpu(
             samples / (seconds - setup).max(1e-9) / 1e6,
         );
     }
+    report_non_finite(&film.non_finite()?, Some((scene, desc)));
     Ok(())
 }
 

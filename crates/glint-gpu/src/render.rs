@@ -8,6 +8,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use glam::Vec3;
 use glint_core::desc::IntegratorDesc;
 use glint_core::film::Image;
+use glint_core::integrator::SurfaceId;
+use glint_core::render::{NonFiniteSamples, SourceTally};
 use glint_core::scene::RenderScene;
 
 use crate::device::{Gpu, GpuError};
@@ -28,6 +30,10 @@ pub struct Progressive<'g> {
     params: wgpu::Buffer,
     accum: wgpu::Buffer,
     readback: wgpu::Buffer,
+    /// Non-finite samples by source (see film.wgsl's `write_sample`).
+    faults: wgpu::Buffer,
+    /// The material of each instance, to name the surfaces that made faults.
+    instance_materials: Vec<u32>,
     /// Samples per pixel the sample buffer holds: the largest pass.
     capacity: u32,
     done: u32,
@@ -68,16 +74,64 @@ impl<'g> Progressive<'g> {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
+        let faults = storage(
+            "non-finite samples",
+            8 * (scene.instances.len() as u64 + 1),
+            wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+        );
         let (trace, splat, bind_group) = gpu.checked("compiling the render kernels", || {
             let kernels = Kernels::new(gpu);
-            let bind_group = kernels.bind(gpu, &gpu_scene, &params, &samples, &accum);
+            let bind_group = kernels.bind(gpu, &gpu_scene, &params, [&samples, &accum, &faults]);
             let entry = match scene.settings.integrator {
                 IntegratorDesc::Path(_) => "trace_path",
                 IntegratorDesc::Whitted => "trace_whitted",
             };
             (kernels.pipeline(gpu, entry), kernels.pipeline(gpu, "splat"), bind_group)
         })?;
-        Ok(Progressive { gpu, scene: gpu_scene, trace, splat, bind_group, params, accum, readback, capacity, done: 0 })
+        let render = Progressive {
+            gpu,
+            scene: gpu_scene,
+            trace,
+            splat,
+            bind_group,
+            params,
+            accum,
+            readback,
+            faults,
+            instance_materials: scene.instances.iter().map(|i| i.material).collect(),
+            capacity,
+            done: 0,
+        };
+        render.clear_faults();
+        Ok(render)
+    }
+
+    /// No fault counted yet, every smallest pixel index at its largest.
+    fn clear_faults(&self) {
+        let empty: Vec<u32> = (0..self.faults.size() / 4).map(|i| if i % 2 == 0 { 0 } else { u32::MAX }).collect();
+        self.gpu.queue.write_buffer(&self.faults, 0, bytemuck::cast_slice(&empty));
+    }
+
+    /// The samples that came back NaN or infinite so far, left out of the film, by the
+    /// surface whose shading first made each one so (its instance, named with the
+    /// instance's material; `None`: the background), as the CPU's render reports them.
+    pub fn non_finite(&self) -> Result<NonFiniteSamples, GpuError> {
+        let words: Vec<u32> = read_buffer(self.gpu, &self.faults)?;
+        let mut tally = NonFiniteSamples::default();
+        let width = self.scene.params.width.max(1);
+        for (source, pair) in words.chunks_exact(2).enumerate() {
+            let [count, pixel] = [pair[0], pair[1]];
+            if count == 0 {
+                continue;
+            }
+            let surface = source.checked_sub(1).map(|instance| SurfaceId {
+                instance: instance as u32,
+                material: self.instance_materials.get(instance).copied().unwrap_or(0),
+            });
+            let example_pixel = (pixel % width, pixel / width);
+            tally.add(surface, SourceTally { count: u64::from(count), example_pixel });
+        }
+        Ok(tally)
     }
 
     /// Starts over with `scene`'s camera and settings, keeping the uploaded scene and
@@ -102,6 +156,7 @@ impl<'g> Progressive<'g> {
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
             encoder.clear_buffer(&self.accum, 0, None);
             gpu.queue.submit([encoder.finish()]);
+            self.clear_faults();
         })?;
         self.done = 0;
         Ok(true)
@@ -208,8 +263,7 @@ impl Kernels {
         gpu: &Gpu,
         scene: &GpuScene,
         params: &wgpu::Buffer,
-        samples: &wgpu::Buffer,
-        accum: &wgpu::Buffer,
+        [samples, accum, faults]: [&wgpu::Buffer; 3],
     ) -> wgpu::BindGroup {
         let b = &scene.buffers;
         let entries = [
@@ -229,6 +283,7 @@ impl Kernels {
             (binding::ACCUM, accum),
             (binding::MOTIONS, &b.motions),
             (binding::CSG_NODES, &b.csg_nodes),
+            (binding::FAULTS, faults),
         ];
         let entries: Vec<_> = entries
             .iter()
@@ -291,7 +346,14 @@ pub fn trace_rays(gpu: &Gpu, scene: &RenderScene, rays: &[RayQuery]) -> Result<V
     gpu.queue.write_buffer(&params_buffer, 0, bytemuck::bytes_of(&params));
     gpu.checked("tracing rays", || {
         let kernels = Kernels::new(gpu);
-        let bind_group = kernels.bind(gpu, &gpu_scene, &params_buffer, &samples, &accum);
+        // trace_rays reports no faults, but the layout has a place for them.
+        let faults = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("unused faults"),
+            size: 8,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
+        let bind_group = kernels.bind(gpu, &gpu_scene, &params_buffer, [&samples, &accum, &faults]);
         let pipeline = kernels.pipeline(gpu, "trace_rays");
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         {
@@ -361,7 +423,7 @@ fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     for b in binding::INSTANCES..=binding::LIGHTS {
         entries.push(entry(b, wgpu::BufferBindingType::Storage { read_only: true }));
     }
-    for b in [binding::SAMPLES, binding::ACCUM] {
+    for b in [binding::SAMPLES, binding::ACCUM, binding::FAULTS] {
         entries.push(entry(b, wgpu::BufferBindingType::Storage { read_only: false }));
     }
     for b in [binding::MOTIONS, binding::CSG_NODES] {

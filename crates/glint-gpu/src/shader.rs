@@ -21,8 +21,10 @@ pub mod binding {
     pub const ACCUM: u32 = 13;
     pub const MOTIONS: u32 = 14;
     pub const CSG_NODES: u32 = 15;
+    /// Non-finite samples per source, as atomic counters: see film.wgsl's `write_sample`.
+    pub const FAULTS: u32 = 16;
     /// Storage buffers (everything but the parameters).
-    pub const STORAGE_COUNT: u32 = 15;
+    pub const STORAGE_COUNT: u32 = 16;
 }
 
 const MODULES: [&str; 11] = [
@@ -64,6 +66,7 @@ pub fn bindings() -> String {
     out += &storage(LIGHTS, "lights", "array<Light>");
     out += &format!("@group(0) @binding({SAMPLES}) var<storage, read_write> samples: array<vec4<f32>>;\n");
     out += &format!("@group(0) @binding({ACCUM}) var<storage, read_write> accum: array<vec4<f32>>;\n");
+    out += &format!("@group(0) @binding({FAULTS}) var<storage, read_write> faults: array<atomic<u32>>;\n");
     out
 }
 

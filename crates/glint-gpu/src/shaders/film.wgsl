@@ -60,6 +60,34 @@ fn film_position(px: u32, py: u32, index: u32) -> vec2<f32> {
     return vec2<f32>(f32(px), f32(py)) + next_2d(&sampler);
 }
 
+// The instance whose shading first made the current sample NaN or infinite
+// (glint_core's Counters::blame), NO_INDEX while none has (or for the background).
+var<private> blamed: u32 = NO_INDEX;
+
+// Blames `instance` when `value`, just updated at a hit on it, is no longer finite and
+// no deeper surface was blamed first.
+fn blame(instance: u32, value: vec3<f32>) {
+    if blamed == NO_INDEX && !finite3(value) {
+        blamed = instance;
+    }
+}
+
+// Stores sample `id`. A NaN or infinite one never reaches the film (w = 1 makes the
+// splat skip it); it is counted by its source in `faults`: for source s (0 the
+// background, 1 + i instance i), faults[2s] counts and faults[2s + 1] keeps the
+// smallest pixel index.
+fn write_sample(id: vec3<u32>, value: vec3<f32>) {
+    let i = (id.z * params.height + id.y) * params.width + id.x;
+    if finite3(value) {
+        samples[i] = vec4<f32>(value, 0.0);
+        return;
+    }
+    samples[i] = vec4<f32>(0.0, 0.0, 0.0, 1.0);
+    let source = select(blamed + 1u, 0u, blamed == NO_INDEX);
+    atomicAdd(&faults[2u * source], 1u);
+    atomicMin(&faults[2u * source + 1u], id.y * params.width + id.x);
+}
+
 @compute @workgroup_size(8, 8, 1)
 fn splat(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= params.width || id.y >= params.height {
@@ -90,9 +118,9 @@ fn splat(@builtin(global_invocation_id) id: vec3<u32>) {
                     continue;
                 }
                 let w = filter_eval(f32(id.x) + 0.5 - f.x, f32(id.y) + 0.5 - f.y);
-                if w != 0.0 {
-                    let value = samples[(k * params.height + u32(qy)) * params.width + u32(qx)].xyz;
-                    sum += w * value;
+                let sample = samples[(k * params.height + u32(qy)) * params.width + u32(qx)];
+                if w != 0.0 && sample.w == 0.0 {
+                    sum += w * sample.xyz;
                     weight += w;
                 }
             }

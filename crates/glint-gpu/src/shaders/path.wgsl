@@ -183,6 +183,7 @@ fn path_radiance(camera_ray: Ray, sampler: ptr<function, PathSampler>) -> vec3<f
         var bsdf = surface_bsdf(hit.material, hit.uv);
         bsdf.color *= hit.color;
         radiance += throughput * emitted(hit, hit.material, wo_world, previous);
+        blame(hit.instance, radiance);
         if depth + 1u >= params.max_depth {
             break;
         }
@@ -194,6 +195,7 @@ fn path_radiance(camera_ray: Ray, sampler: ptr<function, PathSampler>) -> vec3<f
         if has_non_delta(bsdf) {
             shadow = direct_light(hit, bsdf, f, wo, choices.x, u_light, r.time);
             shadow.contribution = throughput * shadow.contribution;
+            blame(hit.instance, shadow.contribution);
         }
         let s = bsdf_sample(bsdf, wo, choices.y, u_dir);
         if !s.found {
@@ -206,6 +208,7 @@ fn path_radiance(camera_ray: Ray, sampler: ptr<function, PathSampler>) -> vec3<f
             continue;
         }
         throughput *= s.weight;
+        blame(hit.instance, throughput);
         eta *= s.eta;
         r = Ray(offset_ray_origin(hit.point, side_normal(hit, wi)), wi, r.time);
         previous = Bounce(true, hit.point, s.pdf, s.delta);
@@ -243,7 +246,7 @@ fn camera_ray(x: f32, y: f32, lens: vec2<f32>) -> Ray {
 }
 
 // One path sample of pixel (px, py), index `index`: the film position it landed on
-// (first two numbers of its sampler) and its radiance, non-finite values as black.
+// (first two numbers of its sampler) and its radiance.
 fn path_sample(px: u32, py: u32, index: u32) -> vec3<f32> {
     var sampler = path_sampler(params.sampler == 0u, px, py, index, params.seed);
     let offset = next_2d(&sampler);
@@ -257,11 +260,7 @@ fn path_sample(px: u32, py: u32, index: u32) -> vec3<f32> {
     if params.has_motion != 0u {
         r.time = next_1d(&sampler);
     }
-    let value = path_radiance(r, &sampler);
-    if !finite3(value) {
-        return vec3<f32>(0.0);
-    }
-    return value;
+    return path_radiance(r, &sampler);
 }
 
 @compute @workgroup_size(8, 8, 1)
@@ -269,6 +268,5 @@ fn trace_path(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= params.width || id.y >= params.height {
         return;
     }
-    let value = path_sample(id.x, id.y, params.sample_offset + id.z);
-    samples[(id.z * params.height + id.y) * params.width + id.x] = vec4<f32>(value, 0.0);
+    write_sample(id, path_sample(id.x, id.y, params.sample_offset + id.z));
 }

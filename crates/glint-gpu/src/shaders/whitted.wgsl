@@ -399,6 +399,7 @@ fn whitted_radiance(camera: Ray, rng: ptr<function, u32>) -> vec3<f32> {
             let e = shading.entry;
             let m = shading.m;
             color += e.weight * shading.direct;
+            blame(shading.hit.instance, color);
             if e.depth < params.max_depth {
                 let point = shading.hit.point;
                 let d = shading.d;
@@ -460,11 +461,7 @@ fn whitted_sample(px: u32, py: u32, index: u32) -> vec3<f32> {
         // A moment in the shutter interval, drawn after the lens as the CPU draws it.
         r.time = rng_next_f32(&rng);
     }
-    let value = whitted_radiance(r, &rng);
-    if !finite3(value) {
-        return vec3<f32>(0.0);
-    }
-    return value;
+    return whitted_radiance(r, &rng);
 }
 
 @compute @workgroup_size(8, 8, 1)
@@ -472,6 +469,5 @@ fn trace_whitted(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= params.width || id.y >= params.height {
         return;
     }
-    let value = whitted_sample(id.x, id.y, params.sample_offset + id.z);
-    samples[(id.z * params.height + id.y) * params.width + id.x] = vec4<f32>(value, 0.0);
+    write_sample(id, whitted_sample(id.x, id.y, params.sample_offset + id.z));
 }
