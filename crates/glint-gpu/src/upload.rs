@@ -48,38 +48,29 @@ pub fn unsupported(scene: &RenderScene) -> Option<String> {
     unsupported_shape(scene)
 }
 
+/// Solids the GPU intersects, alone or as CSG operands.
+fn gpu_solid(kind: ShapeKind) -> bool {
+    matches!(
+        kind,
+        ShapeKind::Sphere
+            | ShapeKind::Cube
+            | ShapeKind::Cylinder
+            | ShapeKind::Cone
+            | ShapeKind::Plane
+            | ShapeKind::Torus
+            | ShapeKind::Quadric
+    )
+}
+
 fn unsupported_shape(scene: &RenderScene) -> Option<String> {
-    let leaf = scene.shape_tables.csg_nodes.iter().filter(|n| n.op == CsgOp::Leaf).map(|n| n.shape.kind).find(|k| {
-        !matches!(
-            k,
-            ShapeKind::Sphere
-                | ShapeKind::Cube
-                | ShapeKind::Cylinder
-                | ShapeKind::Cone
-                | ShapeKind::Plane
-                | ShapeKind::Torus
-                | ShapeKind::Quadric
-        )
-    });
-    if let Some(k) = leaf {
+    let csg_nodes = &scene.shape_tables.csg_nodes;
+    if let Some(k) = csg_nodes.iter().filter(|n| n.op == CsgOp::Leaf).map(|n| n.shape.kind).find(|&k| !gpu_solid(k)) {
         return Some(format!("CSG with {k:?} operands"));
     }
-    let kind = scene.instances.iter().map(|i| i.shape.kind).find(|k| {
-        !matches!(
-            k,
-            ShapeKind::Sphere
-                | ShapeKind::Cube
-                | ShapeKind::Cylinder
-                | ShapeKind::Cone
-                | ShapeKind::Plane
-                | ShapeKind::Disk
-                | ShapeKind::Rectangle
-                | ShapeKind::Mesh
-                | ShapeKind::Quadric
-                | ShapeKind::Torus
-                | ShapeKind::Csg
-        )
-    });
+    let drawn = |k: ShapeKind| {
+        gpu_solid(k) || matches!(k, ShapeKind::Disk | ShapeKind::Rectangle | ShapeKind::Mesh | ShapeKind::Csg)
+    };
+    let kind = scene.instances.iter().map(|i| i.shape.kind).find(|&k| !drawn(k));
     kind.map(|k| format!("{k:?} shapes"))
 }
 
