@@ -110,14 +110,8 @@ fn leaf_spans(kind: u32, param: f32, r: Ray) -> SpanList {
             if !finite(t0) {
                 t0 = 0.0;
             }
-            let o = r.origin + t0 * r.dir;
-            let d = r.dir;
-            let oy = 1.0 - o.y;
-            let dy = -d.y;
-            let a = d.x * d.x + d.z * d.z - 0.25 * dy * dy;
-            let b = 2.0 * (o.x * d.x + o.z * d.z - 0.25 * oy * dy);
-            let c = o.x * o.x + o.z * o.z - 0.25 * oy * oy;
-            let body = quadratic_spans(a, b, c);
+            let q = cone_quadratic(r.origin + t0 * r.dir, r.dir);
+            let body = quadratic_spans(q.x, q.y, q.z);
             for (var k = 0u; k < body.count; k += 1u) {
                 var s = body.spans[k];
                 s.enter += t0;
@@ -295,18 +289,9 @@ fn intersect_csg(root: u32, r: Ray, t_max: f32) -> ShapeHit {
     let start = stack_start[top - 1u];
     let len = stack_len[top - 1u];
     for (var k = 0u; k < len; k += 1u) {
-        let s = spans[start + k];
-        if s.enter > 0.0 {
-            if s.enter < t_max {
-                return shape_hit(s.enter, s.enter_part);
-            }
-            return no_hit();
-        }
-        if s.exit > 0.0 {
-            if s.exit < t_max {
-                return shape_hit(s.exit, s.exit_part);
-            }
-            return no_hit();
+        let c = span_crossing(spans[start + k]);
+        if c.found {
+            return nearer_than(c, t_max);
         }
     }
     return no_hit();

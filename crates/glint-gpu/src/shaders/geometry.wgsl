@@ -173,18 +173,24 @@ fn solve_quadratic(a: f32, b: f32, c: f32) -> vec3<f32> {
     return vec3<f32>(min(t0, t1), max(t0, t1), 1.0);
 }
 
+// The cone x² + z² = ((1 − y)/2)² along o + s·d: the coefficients (a, b, c) of its
+// quadratic in s.
+fn cone_quadratic(o: vec3<f32>, d: vec3<f32>) -> vec3<f32> {
+    let oy = 1.0 - o.y;
+    let dy = -d.y;
+    return vec3<f32>(
+        d.x * d.x + d.z * d.z - 0.25 * dy * dy,
+        2.0 * (o.x * d.x + o.z * d.z - 0.25 * oy * dy),
+        o.x * o.x + o.z * o.z - 0.25 * oy * oy,
+    );
+}
+
 fn intersect_cone(r: Ray, t_max: f32) -> ShapeHit {
     var best = no_hit();
     var limit = t_max;
     let t0 = -dot(r.origin, r.dir) / dot(r.dir, r.dir);
-    let o = ray_at(r, t0);
-    let d = r.dir;
-    let oy = 1.0 - o.y;
-    let dy = -d.y;
-    let a = d.x * d.x + d.z * d.z - 0.25 * dy * dy;
-    let b = 2.0 * (o.x * d.x + o.z * d.z - 0.25 * oy * dy);
-    let c = o.x * o.x + o.z * o.z - 0.25 * oy * oy;
-    let roots = solve_quadratic(a, b, c);
+    let q = cone_quadratic(ray_at(r, t0), r.dir);
+    let roots = solve_quadratic(q.x, q.y, q.z);
     if roots.z > 0.0 {
         for (var k = 0u; k < 2u; k += 1u) {
             let t = t0 + roots[k];

@@ -187,20 +187,31 @@ fn quadric_spans(q: u32, r: Ray) -> SpanList {
 }
 
 // The first span end in (0, t_max) (glint_core::shape::span::first_crossing).
+// Where a ray first crosses the boundary of span `s` ahead of its origin: the entry, or
+// the exit when the origin lies inside; no hit when the span lies wholly behind.
+fn span_crossing(s: Span) -> ShapeHit {
+    if s.enter > 0.0 {
+        return shape_hit(s.enter, s.enter_part);
+    }
+    if s.exit > 0.0 {
+        return shape_hit(s.exit, s.exit_part);
+    }
+    return no_hit();
+}
+
+// `crossing` when it lies before `t_max`, else no hit.
+fn nearer_than(crossing: ShapeHit, t_max: f32) -> ShapeHit {
+    if crossing.t < t_max {
+        return crossing;
+    }
+    return no_hit();
+}
+
 fn first_crossing(l: SpanList, t_max: f32) -> ShapeHit {
     for (var k = 0u; k < l.count; k += 1u) {
-        let s = l.spans[k];
-        if s.enter > 0.0 {
-            if s.enter < t_max {
-                return shape_hit(s.enter, s.enter_part);
-            }
-            return no_hit();
-        }
-        if s.exit > 0.0 {
-            if s.exit < t_max {
-                return shape_hit(s.exit, s.exit_part);
-            }
-            return no_hit();
+        let c = span_crossing(l.spans[k]);
+        if c.found {
+            return nearer_than(c, t_max);
         }
     }
     return no_hit();

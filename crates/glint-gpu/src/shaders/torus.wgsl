@@ -110,18 +110,22 @@ fn solve_quartic(a: f32, b: f32, c: f32, d: f32) -> Roots {
     return roots;
 }
 
-// The torus's spans along the ray: between consecutive roots where the quartic is
-// negative at the middle, touching spans merged (Torus::spans).
-fn torus_spans(minor: f32, r: Ray) -> SpanList {
-    var out = span_list();
+// The torus's quartic along the ray, in the unit direction `u` from the point `p`
+// nearest the centre (ray parameter t0): q(s) = s⁴ + c.x s³ + c.y s² + c.z s + c.w, where
+// t = t0 + s / speed. `miss`: the ray passes outside the bounding sphere.
+struct TorusQuartic {
+    miss: bool,
+    speed: f32,
+    t0: f32,
+    c: vec4<f32>,
+}
+
+fn torus_quartic(minor: f32, r: Ray) -> TorusQuartic {
     let speed = length(r.dir);
     let u = r.dir / speed;
     let t0 = -dot(r.origin, u) / speed;
     let p = r.origin + u * (t0 * speed);
     let outer = 1.0 + minor;
-    if dot(p, p) > outer * outer {
-        return out;
-    }
     let k = dot(p, p) + 1.0 - minor * minor;
     let pu = dot(p, u);
     let c = vec4<f32>(
@@ -130,12 +134,24 @@ fn torus_spans(minor: f32, r: Ray) -> SpanList {
         4.0 * pu * k - 8.0 * (p.x * u.x + p.z * u.z),
         k * k - 4.0 * (p.x * p.x + p.z * p.z),
     );
+    return TorusQuartic(dot(p, p) > outer * outer, speed, t0, c);
+}
+
+// The torus's spans along the ray: between consecutive roots where the quartic is
+// negative at the middle, touching spans merged (Torus::spans).
+fn torus_spans(minor: f32, r: Ray) -> SpanList {
+    var out = span_list();
+    let q = torus_quartic(minor, r);
+    if q.miss {
+        return out;
+    }
+    let c = q.c;
     let roots = solve_quartic(c.x, c.y, c.z, c.w);
     for (var i = 0u; i + 1u < roots.count; i += 1u) {
         let s0 = roots.t[i];
         let s1 = roots.t[i + 1u];
-        let a = t0 + s0 / speed;
-        let b = t0 + s1 / speed;
+        let a = q.t0 + s0 / q.speed;
+        let b = q.t0 + s1 / q.speed;
         let m = 0.5 * (s0 + s1);
         let value = (((m + c.x) * m + c.y) * m + c.z) * m + c.w;
         if a < b && value < 0.0 {
@@ -150,27 +166,13 @@ fn torus_spans(minor: f32, r: Ray) -> SpanList {
 }
 
 fn intersect_torus(minor: f32, r: Ray, t_max: f32) -> ShapeHit {
-    let speed = length(r.dir);
-    let u = r.dir / speed;
-    let t0 = -dot(r.origin, u) / speed;
-    let p = r.origin + u * (t0 * speed);
-    let outer = 1.0 + minor;
-    if dot(p, p) > outer * outer {
+    let q = torus_quartic(minor, r);
+    if q.miss {
         return no_hit();
     }
-    let k = dot(p, p) + 1.0 - minor * minor;
-    let pu = dot(p, u);
-    let radial_uu = u.x * u.x + u.z * u.z;
-    let radial_pu = p.x * u.x + p.z * u.z;
-    let radial_pp = p.x * p.x + p.z * p.z;
-    let roots = solve_quartic(
-        4.0 * pu,
-        4.0 * pu * pu + 2.0 * k - 4.0 * radial_uu,
-        4.0 * pu * k - 8.0 * radial_pu,
-        k * k - 4.0 * radial_pp,
-    );
+    let roots = solve_quartic(q.c.x, q.c.y, q.c.z, q.c.w);
     for (var i = 0u; i < roots.count; i += 1u) {
-        let t = t0 + roots.t[i] / speed;
+        let t = q.t0 + roots.t[i] / q.speed;
         if t > 0.0 && t < t_max {
             return shape_hit(t, 0u);
         }
