@@ -14,7 +14,7 @@ use glint_cli::checkpoint::{Checkpointer, DEFAULT_INTERVAL_SECONDS};
 use glint_core::desc::{AdaptiveDesc, FilterKind, SamplePattern, SamplerKind, SceneDesc};
 use glint_core::film::Image;
 use glint_core::film::Transfer;
-use glint_core::render::{NonFiniteSamples, RenderError, TileStore, render_progressive};
+use glint_core::render::{NonFiniteSamples, RenderError, RenderStats, TileStore, render_progressive};
 use glint_core::scene::compile;
 use glint_scene::image_out::{OutputFormat, write_exr_layers, write_image};
 use glint_scene::input::InputLimits;
@@ -527,32 +527,11 @@ fn render_scene_to(args: &RenderArgs, mut desc: SceneDesc, output: &Path, cancel
     }
     let (image, stats) = result.map_err(|RenderError::Cancelled| Failure::Cancelled)?;
     let seconds = start.elapsed().as_secs_f64();
-    match &stats.aovs {
-        Some(aovs) => {
-            let mut layers = Vec::new();
-            for aov in [AovArg::Albedo, AovArg::Normal, AovArg::Depth].into_iter().filter(|a| args.aov.contains(a)) {
-                layers.push(match aov {
-                    AovArg::Albedo => ("albedo", &["R", "G", "B"][..], &aovs.albedo),
-                    AovArg::Normal => ("normal", &["X", "Y", "Z"][..], &aovs.normal),
-                    AovArg::Depth => ("depth", &["Z"][..], &aovs.depth),
-                });
-            }
-            write_exr_layers(output, &image, &layers)?;
-        }
-        None => write_image(&image, output, format, transfer)?,
-    }
+    write_outputs(args, (output, format, transfer), &image, &stats)?;
     if let Some(checkpointer) = &checkpointer {
         checkpointer.remove();
     }
     report_non_finite(&stats.non_finite, Some((&scene, &desc)));
-    if let Some(path) = &args.aov_samples {
-        write_image(
-            &sample_count_image(&image, &stats.samples_per_pixel),
-            path,
-            OutputFormat::Png8,
-            Transfer::Identity,
-        )?;
-    }
     if !args.quiet {
         let (w, h) = (scene.settings.width, scene.settings.height);
         let mean_spp = stats.samples_per_pixel.iter().map(|&c| c as f64).sum::<f64>() / (w as f64 * h as f64);
@@ -613,6 +592,35 @@ fn report_non_finite(non_finite: &NonFiniteSamples, scene: Option<(&glint_core::
     }
 }
 
+/// Writes a finished render: the image (with the AOV layers `--aov` asks for, into
+/// one OpenEXR file) and, with `--aov-samples`, the samples each pixel took.
+fn write_outputs(
+    args: &RenderArgs,
+    (output, format, transfer): (&Path, OutputFormat, Transfer),
+    image: &Image,
+    stats: &RenderStats,
+) -> Result<(), Failure> {
+    match &stats.aovs {
+        Some(aovs) => {
+            let mut layers = Vec::new();
+            for aov in [AovArg::Albedo, AovArg::Normal, AovArg::Depth].into_iter().filter(|a| args.aov.contains(a)) {
+                layers.push(match aov {
+                    AovArg::Albedo => ("albedo", &["R", "G", "B"][..], &aovs.albedo),
+                    AovArg::Normal => ("normal", &["X", "Y", "Z"][..], &aovs.normal),
+                    AovArg::Depth => ("depth", &["Z"][..], &aovs.depth),
+                });
+            }
+            write_exr_layers(output, image, &layers)?;
+        }
+        None => write_image(image, output, format, transfer)?,
+    }
+    if let Some(path) = &args.aov_samples {
+        let counts = sample_count_image(image, &stats.samples_per_pixel);
+        write_image(&counts, path, OutputFormat::Png8, Transfer::Identity)?;
+    }
+    Ok(())
+}
+
 /// The GPU to render on, if `device` asks for one and (for `auto`) a hardware GPU
 /// can render this scene; `None` means the CPU.
 fn choose_gpu(
@@ -653,8 +661,8 @@ fn choose_gpu(
     }
 }
 
-/// Renders on `gpu` pass by pass, with the same progress bar, Ctrl-C and
-/// `--progressive` behaviour as on the CPU.
+/// Renders on `gpu` pass by pass (or, for adaptive sampling, round by round), with
+/// the same progress bar, Ctrl-C, `--progressive` and outputs as on the CPU.
 fn render_on_gpu(
     gpu: &glint_gpu::Gpu,
     (scene, desc): (&glint_core::scene::RenderScene, &SceneDesc),
@@ -666,39 +674,57 @@ fn render_on_gpu(
     let start = Instant::now();
     let mut film = glint_gpu::Progressive::new(gpu, scene)?;
     let setup = start.elapsed().as_secs_f64();
-    let total = scene.settings.spp;
     let bar = progress_bar(args.quiet);
-    bar.set_length(total as u64);
-    // Passes of about a tenth of the samples keep the bar and Ctrl-C responsive.
-    let pass = total.div_ceil(10).max(1);
-    while film.samples_done() < total {
-        if cancel.load(Ordering::Relaxed) {
-            bar.finish_and_clear();
-            return Err(Failure::Cancelled);
-        }
-        film.add_samples(pass.min(total - film.samples_done()))?;
-        bar.set_position(film.samples_done() as u64);
-        if args.progressive && film.samples_done() < total {
-            write_image(&film.image()?, output, format, transfer)?;
+    if scene.settings.adaptive.is_some() {
+        let on_round = |done: usize, total: usize| {
+            bar.set_length(total as u64);
+            bar.set_position(done as u64);
+        };
+        film.sample_adaptively(&on_round, cancel).map_err(|e| match e {
+            glint_gpu::GpuRenderError::Cancelled => Failure::Cancelled,
+            glint_gpu::GpuRenderError::Gpu(e) => e.into(),
+        })?;
+    } else {
+        let total = scene.settings.spp;
+        bar.set_length(total as u64);
+        // Passes of about a tenth of the samples keep the bar and Ctrl-C responsive.
+        let pass = total.div_ceil(10).max(1);
+        while film.samples_done() < total {
+            if cancel.load(Ordering::Relaxed) {
+                bar.finish_and_clear();
+                return Err(Failure::Cancelled);
+            }
+            film.add_samples(pass.min(total - film.samples_done()))?;
+            bar.set_position(film.samples_done() as u64);
+            if args.progressive && film.samples_done() < total {
+                write_image(&film.image()?, output, format, transfer)?;
+            }
         }
     }
     bar.finish_and_clear();
     let image = film.image()?;
-    write_image(&image, output, format, transfer)?;
+    let stats = RenderStats {
+        rays: 0,
+        samples_per_pixel: film.samples_per_pixel()?,
+        aovs: film.aovs()?,
+        non_finite: film.non_finite()?,
+    };
+    write_outputs(args, (output, format, transfer), &image, &stats)?;
     if !args.quiet {
         let seconds = start.elapsed().as_secs_f64();
         let (w, h) = (scene.settings.width, scene.settings.height);
-        let samples = w as f64 * h as f64 * total as f64;
+        let samples = stats.samples_per_pixel.iter().map(|&c| c as f64).sum::<f64>();
         // Setup (upload and kernel compilation, which a driver may cache) is reported
         // apart: the rate is the rendering's own.
         eprintln!(
-            "wrote {} ({w}x{h}, {total} spp) in {seconds:.2} s on the GPU {} ({setup:.2} s setup): {:.2} M samples/s",
+            "wrote {} ({w}x{h}, {:.1} spp) in {seconds:.2} s on the GPU {} ({setup:.2} s setup): {:.2} M samples/s",
             output.display(),
+            samples / (w as f64 * h as f64),
             gpu.describe(),
             samples / (seconds - setup).max(1e-9) / 1e6,
         );
     }
-    report_non_finite(&film.non_finite()?, Some((scene, desc)));
+    report_non_finite(&stats.non_finite, Some((scene, desc)));
     Ok(())
 }
 

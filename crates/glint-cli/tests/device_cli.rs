@@ -86,3 +86,56 @@ fn gpu_renders_a_path_traced_scene_like_the_cpu() {
 fn gpu_renders_a_whitted_scene_like_the_cpu() {
     gpu_renders_like_the_cpu("cornell-whitted.glint");
 }
+
+/// Adaptive sampling with AOV layers on both devices: the sample-count images and the
+/// depth layers agree (the GPU takes the CPU's samples).
+#[test]
+fn gpu_samples_adaptively_and_writes_aov_layers_like_the_cpu() {
+    if !has_adapter() {
+        eprintln!("SKIPPED: no GPU adapter");
+        return;
+    }
+    let render = |device: &str| {
+        let (out, counts) = (temp(&format!("adaptive-{device}.exr")), temp(&format!("counts-{device}.png")));
+        let output = glint()
+            .args(["render", "--width", "24", "--height", "16", "--device", device, "--aov", "depth", "-o"])
+            .arg(&out)
+            .arg("--aov-samples")
+            .arg(&counts)
+            .arg(scene("soft-shadows.glint"))
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr).to_string();
+        assert!(output.status.success(), "{stderr}");
+        let depth = exr_channel(&out, "depth.Z");
+        let counts_image = glint_scene::image_out::read_image(&counts).expect("a sample-count image");
+        let _ = (std::fs::remove_file(out), std::fs::remove_file(counts));
+        (depth, counts_image, stderr)
+    };
+    let (cpu_depth, cpu_counts, _) = render("cpu");
+    let (gpu_depth, gpu_counts, stderr) = render("gpu");
+    assert!(stderr.contains("on the GPU"), "{stderr}");
+    let same = cpu_counts.pixels.iter().zip(&gpu_counts.pixels).filter(|(a, b)| a == b).count();
+    assert!(same * 100 >= 97 * cpu_counts.pixels.len(), "{same} of {} sample counts agree", cpu_counts.pixels.len());
+    let distinct = gpu_counts.pixels.iter().map(|p| p.x.to_bits()).collect::<std::collections::BTreeSet<_>>();
+    assert!(distinct.len() > 1, "every pixel took as many samples");
+    // A sample at a silhouette may meet the other surface in f32 on one device.
+    let close = cpu_depth.iter().zip(&gpu_depth).filter(|(a, b)| (*a - *b).abs() <= 1e-3 * (1.0 + a.abs())).count();
+    assert!(close * 100 >= 98 * cpu_depth.len(), "only {close} of {} depths agree", cpu_depth.len());
+}
+
+/// One channel of an OpenEXR file's first layer, every pixel.
+fn exr_channel(path: &std::path::Path, name: &str) -> Vec<f32> {
+    use exr::prelude::{ReadChannels, ReadLayers};
+    let image = exr::prelude::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .first_valid_layer()
+        .all_attributes()
+        .from_file(path)
+        .expect("an OpenEXR file");
+    let channels = &image.layer_data.channel_data.list;
+    let channel = channels.iter().find(|c| c.name.to_string() == name).unwrap_or_else(|| panic!("no {name}"));
+    (0..channel.sample_data.len()).map(|i| channel.sample_data.value_by_flat_index(i).to_f32()).collect()
+}

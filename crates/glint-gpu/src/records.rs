@@ -260,6 +260,22 @@ pub struct Params {
     pub quadric_offset: u32,
     /// 1 when some instance moves: each path then draws a time in the shutter.
     pub has_motion: u32,
+    /// 1 when the film keeps AOV planes (albedo and depth, normal) beside the colour.
+    pub aovs: u32,
+    /// Adaptive sampling's minimum samples per pixel; 0 in a uniform pass.
+    pub adaptive_min: u32,
+    /// Adaptive sampling's maximum samples per pixel.
+    pub adaptive_max: u32,
+    /// Adaptive sampling's standard-error threshold on display luminance.
+    pub adaptive_threshold: f32,
+    /// 1 in the adaptive round whose samples bring every pixel to the minimum: its
+    /// decision looks at the neighbours' means (film.wgsl's `adaptive_decide`).
+    pub adaptive_first: u32,
+    /// Keep the vectors below 16-byte aligned (single words: a uniform array's
+    /// elements would each take 16 bytes).
+    pub reserved0: u32,
+    pub reserved1: u32,
+    pub reserved2: u32,
     pub background: [f32; 4],
     /// Whitted: the ambient light `L_a`.
     pub ambient: [f32; 4],
@@ -327,6 +343,14 @@ gpu_record!(pub PARAMS = Params as "Params" {
     pattern_seed: U32 => pattern_seed,
     quadric_offset: U32 => quadric_offset,
     has_motion: U32 => has_motion,
+    aovs: U32 => aovs,
+    adaptive_min: U32 => adaptive_min,
+    adaptive_max: U32 => adaptive_max,
+    adaptive_threshold: F32 => adaptive_threshold,
+    adaptive_first: U32 => adaptive_first,
+    reserved0: U32 => reserved0,
+    reserved1: U32 => reserved1,
+    reserved2: U32 => reserved2,
     background: Vec4 => background,
     ambient: Vec4 => ambient,
     env_scale: Vec4 => env_scale,

@@ -6,10 +6,10 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use glam::Vec3;
-use glint_core::desc::IntegratorDesc;
-use glint_core::film::Image;
+use glint_core::desc::{AdaptiveDesc, IntegratorDesc};
+use glint_core::film::{AovImages, Image};
 use glint_core::integrator::SurfaceId;
-use glint_core::render::{NonFiniteSamples, SourceTally};
+use glint_core::render::{NonFiniteSamples, RenderStats, SourceTally};
 use glint_core::scene::RenderScene;
 
 use crate::device::{Gpu, GpuError};
@@ -26,17 +26,33 @@ pub struct Progressive<'g> {
     scene: GpuScene,
     trace: wgpu::ComputePipeline,
     splat: wgpu::ComputePipeline,
+    /// The adaptive round's statistics and decision kernels, for a scene that samples
+    /// adaptively.
+    adaptive: Option<AdaptiveKernels>,
     bind_group: wgpu::BindGroup,
     params: wgpu::Buffer,
+    /// The film (see film.wgsl for its layout).
     accum: wgpu::Buffer,
     readback: wgpu::Buffer,
-    /// Non-finite samples by source (see film.wgsl's `write_sample`).
+    /// Non-finite samples by source (see film.wgsl's `write_sample`), then the
+    /// adaptive round's two tallies.
     faults: wgpu::Buffer,
     /// The material of each instance, to name the surfaces that made faults.
     instance_materials: Vec<u32>,
     /// Samples per pixel the sample buffer holds: the largest pass.
     capacity: u32,
+    /// Samples per pixel so far, in every pixel; the adaptive rounds' largest count.
     done: u32,
+    /// Whether the film holds adaptive rounds (each pixel its own count) rather than
+    /// uniform passes.
+    sampled_adaptively: bool,
+}
+
+/// Adaptive sampling's settings and the kernels of its rounds.
+struct AdaptiveKernels {
+    settings: AdaptiveDesc,
+    update: wgpu::ComputePipeline,
+    decide: wgpu::ComputePipeline,
 }
 
 impl<'g> Progressive<'g> {
@@ -46,12 +62,13 @@ impl<'g> Progressive<'g> {
         let (width, height) = (scene.settings.width as u64, scene.settings.height as u64);
         let pixels = width * height;
         let limit = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
-        let film_bytes = pixels * 16;
+        let sample_bytes = pixels * 16 * film_stride_of(&gpu_scene.params) as u64;
+        let film_bytes = sample_bytes + if scene.settings.adaptive.is_some() { pixels * 16 } else { 0 };
         if film_bytes > limit {
             return Err(GpuError::TooLarge { what: "film", needed: film_bytes, limit });
         }
-        let capacity =
-            (SAMPLES_PER_DISPATCH / pixels).min(limit / film_bytes).clamp(1, scene.settings.spp as u64) as u32;
+        let most_samples = scene.settings.adaptive.map_or(scene.settings.spp, |a| a.max_samples);
+        let capacity = (SAMPLES_PER_DISPATCH / pixels).min(limit / sample_bytes).clamp(1, most_samples as u64) as u32;
         let storage = |label: &str, size: u64, usage: wgpu::BufferUsages| {
             gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -60,7 +77,7 @@ impl<'g> Progressive<'g> {
                 mapped_at_creation: false,
             })
         };
-        let samples = storage("samples", film_bytes * capacity as u64, wgpu::BufferUsages::empty());
+        let samples = storage("samples", sample_bytes * capacity as u64, wgpu::BufferUsages::empty());
         let accum = storage("film", film_bytes, wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST);
         let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("film readback"),
@@ -75,24 +92,30 @@ impl<'g> Progressive<'g> {
             mapped_at_creation: false,
         });
         let faults = storage(
-            "non-finite samples",
-            8 * (scene.instances.len() as u64 + 1),
+            "non-finite samples and round tallies",
+            8 * (scene.instances.len() as u64 + 2),
             wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
         );
-        let (trace, splat, bind_group) = gpu.checked("compiling the render kernels", || {
+        let (trace, splat, adaptive, bind_group) = gpu.checked("compiling the render kernels", || {
             let kernels = Kernels::new(gpu);
             let bind_group = kernels.bind(gpu, &gpu_scene, &params, [&samples, &accum, &faults]);
             let entry = match scene.settings.integrator {
                 IntegratorDesc::Path(_) => "trace_path",
                 IntegratorDesc::Whitted => "trace_whitted",
             };
-            (kernels.pipeline(gpu, entry), kernels.pipeline(gpu, "splat"), bind_group)
+            let adaptive = scene.settings.adaptive.map(|settings| AdaptiveKernels {
+                settings,
+                update: kernels.pipeline(gpu, "adaptive_update"),
+                decide: kernels.pipeline(gpu, "adaptive_decide"),
+            });
+            (kernels.pipeline(gpu, entry), kernels.pipeline(gpu, "splat"), adaptive, bind_group)
         })?;
         let render = Progressive {
             gpu,
             scene: gpu_scene,
             trace,
             splat,
+            adaptive,
             bind_group,
             params,
             accum,
@@ -101,6 +124,7 @@ impl<'g> Progressive<'g> {
             instance_materials: scene.instances.iter().map(|i| i.material).collect(),
             capacity,
             done: 0,
+            sampled_adaptively: false,
         };
         render.clear_faults();
         Ok(render)
@@ -108,8 +132,13 @@ impl<'g> Progressive<'g> {
 
     /// No fault counted yet, every smallest pixel index at its largest.
     fn clear_faults(&self) {
-        let empty: Vec<u32> = (0..self.faults.size() / 4).map(|i| if i % 2 == 0 { 0 } else { u32::MAX }).collect();
+        let empty: Vec<u32> = (0..self.fault_words()).map(|i| if i % 2 == 0 { 0 } else { u32::MAX }).collect();
         self.gpu.queue.write_buffer(&self.faults, 0, bytemuck::cast_slice(&empty));
+    }
+
+    /// Words of the fault tallies; the round tallies follow.
+    fn fault_words(&self) -> u64 {
+        self.faults.size() / 4 - 2
     }
 
     /// The samples that came back NaN or infinite so far, left out of the film, by the
@@ -119,7 +148,7 @@ impl<'g> Progressive<'g> {
         let words: Vec<u32> = read_buffer(self.gpu, &self.faults)?;
         let mut tally = NonFiniteSamples::default();
         let width = self.scene.params.width.max(1);
-        for (source, pair) in words.chunks_exact(2).enumerate() {
+        for (source, pair) in words[..self.fault_words() as usize].chunks_exact(2).enumerate() {
             let [count, pixel] = [pair[0], pair[1]];
             if count == 0 {
                 continue;
@@ -137,7 +166,7 @@ impl<'g> Progressive<'g> {
     /// Starts over with `scene`'s camera and settings, keeping the uploaded scene and
     /// the compiled kernels: what an interactive viewer does after each move. `scene`
     /// must be the scene this render was made for, at the same size and with the same
-    /// integrator; `false` (and nothing changed) when it is not, and a new
+    /// integrator, AOVs and adaptive sampling; `false` (and nothing changed) when it is not, and a new
     /// [`Progressive`] is needed.
     pub fn restart(&mut self, scene: &RenderScene) -> Result<bool, GpuError> {
         let p = &self.scene.params;
@@ -147,7 +176,10 @@ impl<'g> Progressive<'g> {
         };
         let same_scene =
             p.instance_count as usize == scene.instances.len() && p.node_count as usize == scene.bvh.nodes.len();
-        if !same_kernel || !same_scene || (p.width, p.height) != (scene.settings.width, scene.settings.height) {
+        let same_film = (p.width, p.height, p.aovs)
+            == (scene.settings.width, scene.settings.height, scene.settings.aovs as u32)
+            && self.adaptive.as_ref().map(|a| a.settings) == scene.settings.adaptive;
+        if !same_kernel || !same_scene || !same_film {
             return Ok(false);
         }
         crate::upload::set_view(&mut self.scene.params, scene);
@@ -159,7 +191,14 @@ impl<'g> Progressive<'g> {
             self.clear_faults();
         })?;
         self.done = 0;
+        self.sampled_adaptively = false;
         Ok(true)
+    }
+
+    /// Caps each dispatch at `samples` samples per pixel (at least 1): shorter passes
+    /// keep a slow device responsive, and the film does not change.
+    pub fn limit_pass_samples(&mut self, samples: u32) {
+        self.capacity = self.capacity.min(samples).max(1);
     }
 
     /// Samples per pixel accumulated so far.
@@ -168,61 +207,146 @@ impl<'g> Progressive<'g> {
     }
 
     /// Traces `samples` more samples per pixel (in as many dispatches as the sample
-    /// buffer needs) and adds them to the film.
+    /// buffer needs) and adds them to the film. These passes sample uniformly, also in
+    /// a scene that asks for adaptive sampling (what a viewer wants between moves);
+    /// [`Progressive::sample_adaptively`] renders such a scene as the CPU does.
     pub fn add_samples(&mut self, samples: u32) -> Result<(), GpuError> {
         let mut left = samples;
         while left > 0 {
             let pass = left.min(self.capacity);
-            self.dispatch(pass)?;
+            let mut params = self.scene.params;
+            params.sample_offset = self.done;
+            params.pass_samples = pass;
+            self.dispatch(&params, &[&self.trace, &self.splat])?;
+            self.done += pass;
             left -= pass;
         }
         Ok(())
     }
 
-    fn dispatch(&mut self, pass: u32) -> Result<(), GpuError> {
+    /// Adaptive sampling of a fresh film, in rounds: every pixel first takes the
+    /// minimum; then each one goes on, doubling, while its standard error is above the
+    /// threshold, after four times the minimum where it differs from a neighbour
+    /// (glint_core::render's rule, decided per pixel on the device). `progress(done,
+    /// total)` counts the pixels that have finished after each round; setting `cancel`
+    /// stops between rounds. Does nothing for a scene without adaptive sampling.
+    pub fn sample_adaptively(
+        &mut self,
+        progress: &dyn Fn(usize, usize),
+        cancel: &AtomicBool,
+    ) -> Result<(), GpuRenderError> {
+        let Some(settings) = self.adaptive.as_ref().map(|a| a.settings) else { return Ok(()) };
+        let pixels = (self.scene.params.width * self.scene.params.height) as usize;
+        let start: Vec<[u32; 4]> = vec![[0, 0, 0, settings.min_samples]; pixels];
+        let state_at = self.accum.size() - 16 * pixels as u64;
+        self.gpu.queue.write_buffer(&self.accum, state_at, bytemuck::cast_slice(&start));
         let mut params = self.scene.params;
-        params.sample_offset = self.done;
-        params.pass_samples = pass;
+        (params.adaptive_min, params.adaptive_max) = (settings.min_samples.max(1), settings.max_samples);
+        params.adaptive_threshold = settings.threshold;
+        let (mut taken, mut need) = (0, settings.min_samples.max(1));
+        while need > 0 {
+            if cancel.load(Ordering::Relaxed) {
+                return Err(GpuRenderError::Cancelled);
+            }
+            params.pass_samples = need.min(self.capacity);
+            // Every pixel samples alike until they all reach the minimum.
+            params.adaptive_first =
+                (taken < settings.min_samples && taken + params.pass_samples >= settings.min_samples) as u32;
+            taken += params.pass_samples;
+            let tally_at = 4 * self.fault_words();
+            self.gpu.queue.write_buffer(&self.faults, tally_at, bytemuck::cast_slice(&[0u32, 0]));
+            let adaptive = self.adaptive.as_ref().expect("checked above");
+            self.dispatch(&params, &[&self.trace, &self.splat, &adaptive.update, &adaptive.decide])?;
+            let tallies: Vec<u32> = read_buffer(self.gpu, &self.faults)?;
+            let [sampling, most] = [tallies[tally_at as usize / 4], tallies[tally_at as usize / 4 + 1]];
+            progress(pixels - sampling as usize, pixels);
+            need = most;
+        }
+        self.sampled_adaptively = true;
+        self.done = self.samples_per_pixel()?.into_iter().max().unwrap_or(0);
+        Ok(())
+    }
+
+    /// Runs `kernels` one after another over every pixel, the pass's samples deep for
+    /// the first (the trace), and waits for them.
+    fn dispatch(&self, params: &crate::records::Params, kernels: &[&wgpu::ComputePipeline]) -> Result<(), GpuError> {
         let gpu = self.gpu;
         gpu.checked("running a pass", || {
-            gpu.queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+            gpu.queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
             let groups = (params.width.div_ceil(8), params.height.div_ceil(8));
-            {
+            for (i, kernel) in kernels.iter().enumerate() {
+                // One compute pass each: a kernel must see everything the one before wrote.
                 let mut cpass = encoder.begin_compute_pass(&Default::default());
                 cpass.set_bind_group(0, &self.bind_group, &[]);
-                cpass.set_pipeline(&self.trace);
-                cpass.dispatch_workgroups(groups.0, groups.1, pass);
-            }
-            {
-                // A second pass: the gather must see every sample the first one wrote.
-                let mut cpass = encoder.begin_compute_pass(&Default::default());
-                cpass.set_bind_group(0, &self.bind_group, &[]);
-                cpass.set_pipeline(&self.splat);
-                cpass.dispatch_workgroups(groups.0, groups.1, 1);
+                cpass.set_pipeline(kernel);
+                cpass.dispatch_workgroups(groups.0, groups.1, if i == 0 { params.pass_samples } else { 1 });
             }
             gpu.queue.submit([encoder.finish()]);
         })?;
         gpu.device
             .poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| GpuError::Device(format!("waiting for a pass: {e}")))?;
-        self.done += pass;
         Ok(())
     }
 
-    /// The film so far: each pixel's weighted sum over its weight.
-    pub fn image(&self) -> Result<Image, GpuError> {
+    /// The film's vec4s as they are on the device.
+    fn film(&self) -> Result<Vec<[f32; 4]>, GpuError> {
         let gpu = self.gpu;
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         encoder.copy_buffer_to_buffer(&self.accum, 0, &self.readback, 0, self.readback.size());
         gpu.queue.submit([encoder.finish()]);
-        let accum: Vec<[f32; 4]> = map_read(gpu, &self.readback)?;
-        let pixels = accum
-            .iter()
-            .map(|&[r, g, b, w]| if w.abs() > 1e-12 { Vec3::new(r, g, b) / w } else { Vec3::ZERO })
-            .collect();
-        Ok(Image { width: self.scene.params.width, height: self.scene.params.height, pixels })
+        map_read(gpu, &self.readback)
     }
+
+    /// Plane `plane` of the film (0: colour; 1, 2: the AOVs) resolved: each pixel's
+    /// weighted sums over its weight, black where no sample reached.
+    fn resolve(&self, film: &[[f32; 4]], plane: usize, pick: impl Fn([f32; 4]) -> Vec3) -> Image {
+        let stride = film_stride_of(&self.scene.params);
+        let pixels = (self.scene.params.width * self.scene.params.height) as usize;
+        let pixels = (0..pixels)
+            .map(|p| {
+                let w = film[p * stride][3];
+                if w.abs() > 1e-12 { pick(film[p * stride + plane]) / w } else { Vec3::ZERO }
+            })
+            .collect();
+        Image { width: self.scene.params.width, height: self.scene.params.height, pixels }
+    }
+
+    /// The film so far: each pixel's weighted sum over its weight.
+    pub fn image(&self) -> Result<Image, GpuError> {
+        let film = self.film()?;
+        Ok(self.resolve(&film, 0, |v| Vec3::new(v[0], v[1], v[2])))
+    }
+
+    /// The albedo, normal and depth images so far, filtered like the colour, when the
+    /// scene asks for them.
+    pub fn aovs(&self) -> Result<Option<AovImages>, GpuError> {
+        if self.scene.params.aovs == 0 {
+            return Ok(None);
+        }
+        let film = self.film()?;
+        Ok(Some(AovImages {
+            albedo: self.resolve(&film, 1, |v| Vec3::new(v[0], v[1], v[2])),
+            normal: self.resolve(&film, 2, |v| Vec3::new(v[0], v[1], v[2])),
+            depth: self.resolve(&film, 1, |v| Vec3::splat(v[3])),
+        }))
+    }
+
+    /// Camera samples taken in each pixel so far, row by row.
+    pub fn samples_per_pixel(&self) -> Result<Vec<u32>, GpuError> {
+        let pixels = (self.scene.params.width * self.scene.params.height) as usize;
+        if !self.sampled_adaptively {
+            return Ok(vec![self.done; pixels]);
+        }
+        let film = self.film()?;
+        Ok(film[film.len() - pixels..].iter().map(|state| state[0].to_bits()).collect())
+    }
+}
+
+/// Vec4s per pixel of the film and per sample: colour, then the AOV planes.
+fn film_stride_of(params: &crate::records::Params) -> usize {
+    if params.aovs != 0 { 3 } else { 1 }
 }
 
 /// The compiled program and the one bind-group layout all its kernels share.
@@ -318,7 +442,7 @@ pub struct RayHit {
 /// Traces `rays` against `scene` on the GPU, closest hit each: what the tests compare
 /// with the CPU's traversal and what benchmarks time.
 pub fn trace_rays(gpu: &Gpu, scene: &RenderScene, rays: &[RayQuery]) -> Result<Vec<Option<RayHit>>, GpuError> {
-    let gpu_scene = GpuScene::new_geometry(gpu, scene)?;
+    let gpu_scene = GpuScene::new(gpu, scene)?;
     let count = rays.len().max(1) as u64;
     let ray_words: Vec<[f32; 4]> =
         rays.iter().flat_map(|r| [r.origin.extend(r.t_max).to_array(), r.dir.extend(0.0).to_array()]).collect();
@@ -441,22 +565,34 @@ pub enum GpuRenderError {
     Cancelled,
 }
 
-/// Renders `scene` to completion on `gpu`, reporting progress in samples per pixel
-/// (`done`, `total`) after each pass and stopping between passes when `cancel` is set.
+/// Renders `scene` to completion on `gpu`, as the CPU's `glint_core::render::render`
+/// does: uniformly, reporting progress in samples per pixel (`done`, `total`) after
+/// each pass, or adaptively, reporting finished pixels after each round; stops between
+/// passes when `cancel` is set. The statistics count no rays (the GPU does not).
 pub fn render(
     gpu: &Gpu,
     scene: &RenderScene,
     progress: &dyn Fn(usize, usize),
     cancel: &AtomicBool,
-) -> Result<Image, GpuRenderError> {
+) -> Result<(Image, RenderStats), GpuRenderError> {
     let mut film = Progressive::new(gpu, scene)?;
-    let total = scene.settings.spp;
-    while film.samples_done() < total {
-        if cancel.load(Ordering::Relaxed) {
-            return Err(GpuRenderError::Cancelled);
+    if scene.settings.adaptive.is_some() {
+        film.sample_adaptively(progress, cancel)?;
+    } else {
+        let total = scene.settings.spp;
+        while film.samples_done() < total {
+            if cancel.load(Ordering::Relaxed) {
+                return Err(GpuRenderError::Cancelled);
+            }
+            film.add_samples((total - film.samples_done()).min(film.capacity))?;
+            progress(film.samples_done() as usize, total as usize);
         }
-        film.add_samples((total - film.samples_done()).min(film.capacity))?;
-        progress(film.samples_done() as usize, total as usize);
     }
-    Ok(film.image()?)
+    let stats = RenderStats {
+        rays: 0,
+        samples_per_pixel: film.samples_per_pixel()?,
+        aovs: film.aovs()?,
+        non_finite: film.non_finite()?,
+    };
+    Ok((film.image()?, stats))
 }

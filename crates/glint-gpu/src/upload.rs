@@ -36,18 +36,6 @@ pub(crate) struct SceneBuffers {
     pub lights: wgpu::Buffer,
 }
 
-/// What the GPU backend cannot render yet, as a sentence; `None` when it can.
-pub fn unsupported(scene: &RenderScene) -> Option<String> {
-    let s = &scene.settings;
-    if s.adaptive.is_some() {
-        return Some("adaptive sampling".into());
-    }
-    if s.aovs {
-        return Some("AOV layers (albedo, normal, depth)".into());
-    }
-    unsupported_shape(scene)
-}
-
 /// Solids the GPU intersects, alone or as CSG operands.
 fn gpu_solid(kind: ShapeKind) -> bool {
     matches!(
@@ -62,7 +50,8 @@ fn gpu_solid(kind: ShapeKind) -> bool {
     )
 }
 
-fn unsupported_shape(scene: &RenderScene) -> Option<String> {
+/// What the GPU backend cannot render yet, as a sentence; `None` when it can.
+pub fn unsupported(scene: &RenderScene) -> Option<String> {
     let csg_nodes = &scene.shape_tables.csg_nodes;
     if let Some(k) = csg_nodes.iter().filter(|n| n.op == CsgOp::Leaf).map(|n| n.shape.kind).find(|&k| !gpu_solid(k)) {
         return Some(format!("CSG with {k:?} operands"));
@@ -100,15 +89,6 @@ impl GpuScene {
     /// Uploads `scene`, or says why it cannot be rendered on this GPU.
     pub fn new(gpu: &Gpu, scene: &RenderScene) -> Result<GpuScene, GpuError> {
         if let Some(what) = unsupported(scene) {
-            return Err(GpuError::Unsupported(what));
-        }
-        Self::new_geometry(gpu, scene)
-    }
-
-    /// Uploads `scene` for ray queries alone: its shapes must be ones the GPU
-    /// intersects, whatever the integrator and settings.
-    pub fn new_geometry(gpu: &Gpu, scene: &RenderScene) -> Result<GpuScene, GpuError> {
-        if let Some(what) = unsupported_shape(scene) {
             return Err(GpuError::Unsupported(what));
         }
         let mut a = Arrays::default();
@@ -242,6 +222,7 @@ fn params(scene: &RenderScene, a: &mut Arrays, texel_offset: u32, instance_emitt
                 .flat_map(|q| q.coefficients.into_iter().chain(q.min.to_array()).chain(q.max.to_array())),
         ),
         has_motion: (!scene.motions.is_empty()) as u32,
+        aovs: s.aovs as u32,
         env_scale: [0.0; 4],
         env_from_world: Mat4::IDENTITY,
         world_from_env: Mat4::IDENTITY,
@@ -284,7 +265,10 @@ pub(crate) fn set_view(p: &mut Params, scene: &RenderScene) {
     p.rr_depth = path.rr_depth;
     p.min_contribution = s.min_contribution;
     p.features = features(s.features);
-    p.pattern = match s.sampler.pattern {
+    // Adaptive sampling stops a pixel after any doubling: only Sobol points stay
+    // stratified at every power of two (glint_core::render::adaptive_tile).
+    let pattern = if s.adaptive.is_some() { SamplePattern::Sobol } else { s.sampler.pattern };
+    p.pattern = match pattern {
         SamplePattern::Grid => records::PATTERN_GRID,
         SamplePattern::CornersAndCentre => records::PATTERN_CORNERS,
         SamplePattern::Jittered => records::PATTERN_JITTERED,

@@ -11,7 +11,7 @@ fn a_scene_over_the_buffer_limit_is_refused_naming_the_limit() {
     let Some(mut gpu) = common::gpu() else { return };
     let scene = common::scene_file("mesh-instances.glint", 8, 8, 1);
     gpu.limits.max_storage_buffer_binding_size = 4096;
-    let Err(e) = GpuScene::new_geometry(&gpu, &scene) else { panic!("a 4 KiB limit cannot hold a mesh") };
+    let Err(e) = GpuScene::new(&gpu, &scene) else { panic!("a 4 KiB limit cannot hold a mesh") };
     assert!(matches!(e, GpuError::TooLarge { limit: 4096, .. }), "{e:?}");
     let message = e.to_string();
     assert!(message.contains("max_storage_buffer_binding_size = 4096 bytes"), "{message}");
@@ -24,9 +24,9 @@ fn features_the_gpu_lacks_are_named() {
     assert!(why.contains("Blob"), "{why}");
     let csg = common::scene_file("csg.glint", 8, 8, 1);
     assert_eq!(glint_gpu::upload::unsupported(&csg), None, "CSG of analytic solids runs on the GPU");
-    let adaptive = common::scene_file("soft-shadows.glint", 8, 8, 1);
-    let why = glint_gpu::upload::unsupported(&adaptive).expect("adaptive sampling is not on the GPU yet");
-    assert!(why.contains("adaptive sampling"), "{why}");
+    let mut adaptive_with_aovs = common::scene_file("soft-shadows.glint", 8, 8, 1);
+    adaptive_with_aovs.settings.aovs = true;
+    assert_eq!(glint_gpu::upload::unsupported(&adaptive_with_aovs), None, "adaptive sampling and AOVs run on the GPU");
     let whitted = common::scene_file("default.glint", 8, 8, 1);
     assert_eq!(glint_gpu::upload::unsupported(&whitted), None);
     let path = common::scene_file("cornell-path.glint", 8, 8, 1);

@@ -1,6 +1,14 @@
 // The film: each pixel gathers, in a fixed order, every sample of the pass whose
 // reconstruction filter reaches it (glint_core::film::FilmTile::splat_with seen from
 // the receiving pixel), and adds the weighted sum and the weight to its accumulator.
+//
+// Layouts. A sample takes `film_stride()` vec4s of `samples` (sample k of pixel (x, y)
+// at slot ((k·height + y)·width + x)·stride): its colour and a flag in w (0: a sample,
+// 1: a non-finite one, 2: none, where adaptive sampling gave the pixel fewer samples in
+// this pass), then, with AOVs, its first hit's albedo and depth, and its normal. A
+// pixel takes as many vec4s of `accum`: the weighted colour sum and the weight, then
+// the weighted AOV sums. With adaptive sampling one more vec4 per pixel follows all of
+// those: its sampling state (`AdaptiveState`).
 
 const FILTER_BOX: u32 = 0u;
 const FILTER_TENT: u32 = 1u;
@@ -72,17 +80,62 @@ fn blame(instance: u32, value: vec3<f32>) {
     }
 }
 
-// Stores sample `id`. A NaN or infinite one never reaches the film (w = 1 makes the
-// splat skip it); it is counted by its source in `faults`: for source s (0 the
-// background, 1 + i instance i), faults[2s] counts and faults[2s + 1] keeps the
+// Sample flags (w of a sample's first vec4).
+const SAMPLE_NON_FINITE: f32 = 1.0;
+const SAMPLE_ABSENT: f32 = 2.0;
+
+fn film_stride() -> u32 {
+    return select(1u, 3u, params.aovs != 0u);
+}
+
+fn sample_slot(x: u32, y: u32, k: u32) -> u32 {
+    return ((k * params.height + y) * params.width + x) * film_stride();
+}
+
+// The current sample's first hit as the AOVs see it (glint_core::film::Aov): albedo
+// and depth, normal; zero where the camera ray left the scene.
+var<private> aov_albedo_depth: vec4<f32> = vec4<f32>(0.0);
+var<private> aov_normal: vec4<f32> = vec4<f32>(0.0);
+
+fn record_first_hit(albedo: vec3<f32>, normal: vec3<f32>, depth: f32) {
+    aov_albedo_depth = vec4<f32>(albedo, depth);
+    aov_normal = vec4<f32>(normal, 0.0);
+}
+
+// Which sample of its pixel thread `id` traces: the pass's `id.z`-th. NO_INDEX, with
+// its slot marked empty, where adaptive sampling asks fewer of the pixel.
+fn pass_sample(id: vec3<u32>) -> u32 {
+    let index = pass_base(id.x, id.y) + id.z;
+    if params.adaptive_min != 0u && index >= adaptive_state(id.x, id.y).target_count {
+        samples[sample_slot(id.x, id.y, id.z)] = vec4<f32>(0.0, 0.0, 0.0, SAMPLE_ABSENT);
+        return NO_INDEX;
+    }
+    return index;
+}
+
+// The index of the pass's first sample in pixel (x, y).
+fn pass_base(x: u32, y: u32) -> u32 {
+    if params.adaptive_min != 0u {
+        return adaptive_state(x, y).count;
+    }
+    return params.sample_offset;
+}
+
+// Stores sample `id` with its AOVs. A NaN or infinite one never reaches the film (its
+// flag makes the splat skip it); it is counted by its source in `faults`: for source s
+// (0 the background, 1 + i instance i), faults[2s] counts and faults[2s + 1] keeps the
 // smallest pixel index.
 fn write_sample(id: vec3<u32>, value: vec3<f32>) {
-    let i = (id.z * params.height + id.y) * params.width + id.x;
+    let slot = sample_slot(id.x, id.y, id.z);
+    if params.aovs != 0u {
+        samples[slot + 1u] = aov_albedo_depth;
+        samples[slot + 2u] = aov_normal;
+    }
     if finite3(value) {
-        samples[i] = vec4<f32>(value, 0.0);
+        samples[slot] = vec4<f32>(value, 0.0);
         return;
     }
-    samples[i] = vec4<f32>(0.0, 0.0, 0.0, 1.0);
+    samples[slot] = vec4<f32>(0.0, 0.0, 0.0, SAMPLE_NON_FINITE);
     let source = select(blamed + 1u, 0u, blamed == NO_INDEX);
     atomicAdd(&faults[2u * source], 1u);
     atomicMin(&faults[2u * source + 1u], id.y * params.width + id.x);
@@ -97,6 +150,8 @@ fn splat(@builtin(global_invocation_id) id: vec3<u32>) {
     let reach = i32(ceil(r));
     var sum = vec3<f32>(0.0);
     var weight = 0.0;
+    var albedo_depth = vec4<f32>(0.0);
+    var normal = vec4<f32>(0.0);
     for (var qy = i32(id.y) - reach; qy <= i32(id.y) + reach; qy += 1) {
         if qy < 0 || qy >= i32(params.height) {
             continue;
@@ -105,8 +160,14 @@ fn splat(@builtin(global_invocation_id) id: vec3<u32>) {
             if qx < 0 || qx >= i32(params.width) {
                 continue;
             }
+            let base = pass_base(u32(qx), u32(qy));
             for (var k = 0u; k < params.pass_samples; k += 1u) {
-                let f = film_position(u32(qx), u32(qy), params.sample_offset + k);
+                let slot = sample_slot(u32(qx), u32(qy), k);
+                let sample = samples[slot];
+                if sample.w != 0.0 {
+                    continue;
+                }
+                let f = film_position(u32(qx), u32(qy), base + k);
                 // The pixels this sample reaches, exactly as splat_with bounds them.
                 let x_lo = i32(ceil(f.x - 0.5 - r));
                 let x_hi = i32(floor(f.x - 0.5 + r));
@@ -118,14 +179,131 @@ fn splat(@builtin(global_invocation_id) id: vec3<u32>) {
                     continue;
                 }
                 let w = filter_eval(f32(id.x) + 0.5 - f.x, f32(id.y) + 0.5 - f.y);
-                let sample = samples[(k * params.height + u32(qy)) * params.width + u32(qx)];
-                if w != 0.0 && sample.w == 0.0 {
+                if w != 0.0 {
                     sum += w * sample.xyz;
                     weight += w;
+                    if params.aovs != 0u {
+                        albedo_depth += w * samples[slot + 1u];
+                        normal += w * samples[slot + 2u];
+                    }
                 }
             }
         }
     }
-    let i = id.y * params.width + id.x;
+    let i = (id.y * params.width + id.x) * film_stride();
     accum[i] += vec4<f32>(sum, weight);
+    if params.aovs != 0u {
+        accum[i + 1u] += albedo_depth;
+        accum[i + 2u] += normal;
+    }
+}
+
+// ---- adaptive sampling (glint_core::render::adaptive_tile, one round at a time) ----
+//
+// Each round traces, per pixel, the samples it still needs (up to the pass size),
+// splats them, adds them to the pixel's running mean and variance (`adaptive_update`),
+// then decides how many the pixel needs next (`adaptive_decide`). The host repeats
+// rounds until no pixel needs more.
+
+// A pixel's sampling state: samples taken, running mean and sum of squared deviations
+// of their display luminance (Welford), and the count it is to reach.
+struct AdaptiveState {
+    count: u32,
+    mean: f32,
+    m2: f32,
+    target_count: u32,
+}
+
+fn adaptive_slot(x: u32, y: u32) -> u32 {
+    return params.width * params.height * film_stride() + y * params.width + x;
+}
+
+fn adaptive_state(x: u32, y: u32) -> AdaptiveState {
+    let v = accum[adaptive_slot(x, y)];
+    return AdaptiveState(bitcast<u32>(v.x), v.y, v.z, bitcast<u32>(v.w));
+}
+
+// The two words after the fault tallies: pixels still sampling, and the most samples
+// one of them needs in the next round.
+fn round_tally() -> u32 {
+    return arrayLength(&faults) - 2u;
+}
+
+// Luminance after sRGB encoding, as the CPU's stopping rule weighs it.
+fn display_luminance(c: vec3<f32>) -> f32 {
+    let y = clamp(dot(c, vec3<f32>(0.2126, 0.7152, 0.0722)), 0.0, 1.0);
+    if y <= 0.0031308 {
+        return 12.92 * y;
+    }
+    return 1.055 * pow(y, 1.0 / 2.4) - 0.055;
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn adaptive_update(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= params.width || id.y >= params.height {
+        return;
+    }
+    var s = adaptive_state(id.x, id.y);
+    for (var k = 0u; k < params.pass_samples; k += 1u) {
+        let sample = samples[sample_slot(id.x, id.y, k)];
+        if sample.w == SAMPLE_ABSENT {
+            break;
+        }
+        s.count += 1u;
+        if sample.w == SAMPLE_NON_FINITE {
+            // The CPU's statistics turn NaN: the pixel goes on to the maximum.
+            s.m2 = INF;
+            continue;
+        }
+        let x = display_luminance(sample.xyz);
+        let delta = x - s.mean;
+        s.mean += delta / f32(s.count);
+        s.m2 += delta * (x - s.mean);
+    }
+    accum[adaptive_slot(id.x, id.y)] = vec4<f32>(bitcast<f32>(s.count), s.mean, s.m2, bitcast<f32>(s.target_count));
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn adaptive_decide(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= params.width || id.y >= params.height {
+        return;
+    }
+    let s = adaptive_state(id.x, id.y);
+    var target_count = s.target_count;
+    if s.count >= target_count {
+        if params.adaptive_first != 0u {
+            // A pixel whose mean differs from a neighbour's by more than twice the
+            // threshold first takes four times the minimum.
+            var contrast = 0.0;
+            let x = i32(id.x);
+            let y = i32(id.y);
+            for (var n = 0; n < 4; n += 1) {
+                let nx = x + select(select(0, 1, n == 1), -1, n == 0);
+                let ny = y + select(select(0, 1, n == 3), -1, n == 2);
+                if nx >= 0 && ny >= 0 && nx < i32(params.width) && ny < i32(params.height) {
+                    contrast = max(contrast, abs(adaptive_state(u32(nx), u32(ny)).mean - s.mean));
+                }
+            }
+            if contrast > 2.0 * params.adaptive_threshold {
+                target_count = max(min(4u * params.adaptive_min, params.adaptive_max), s.count);
+            }
+        }
+        if s.count >= target_count {
+            var standard_error = INF;
+            if s.count >= 2u {
+                standard_error = sqrt(s.m2 / f32(s.count - 1u) / f32(s.count));
+            }
+            if s.count >= params.adaptive_max || standard_error <= params.adaptive_threshold {
+                target_count = s.count;
+            } else {
+                target_count = min(2u * s.count, params.adaptive_max);
+            }
+        }
+    }
+    // Only the target changes: the neighbours read this pixel's mean meanwhile.
+    accum[adaptive_slot(id.x, id.y)].w = bitcast<f32>(target_count);
+    if target_count > s.count {
+        atomicAdd(&faults[round_tally()], 1u);
+        atomicMax(&faults[round_tally() + 1u], target_count - s.count);
+    }
 }

@@ -182,6 +182,9 @@ fn path_radiance(camera_ray: Ray, sampler: ptr<function, PathSampler>) -> vec3<f
         let wo_world = -normalize(r.dir);
         var bsdf = surface_bsdf(hit.material, hit.uv);
         bsdf.color *= hit.color;
+        if depth == 0u {
+            record_first_hit(bsdf_albedo(bsdf), hit.normal, hit.t * length(r.dir));
+        }
         radiance += throughput * emitted(hit, hit.material, wo_world, previous);
         blame(hit.instance, radiance);
         if depth + 1u >= params.max_depth {
@@ -268,5 +271,8 @@ fn trace_path(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= params.width || id.y >= params.height {
         return;
     }
-    write_sample(id, path_sample(id.x, id.y, params.sample_offset + id.z));
+    let index = pass_sample(id);
+    if index != NO_INDEX {
+        write_sample(id, path_sample(id.x, id.y, index));
+    }
 }

@@ -384,6 +384,9 @@ fn whitted_radiance(camera: Ray, rng: ptr<function, u32>) -> vec3<f32> {
         } else {
             shading = shading_of(entry, r, hit);
             shading_active = true;
+            if entry.depth == 0u {
+                record_first_hit(shading.diffuse, hit.normal, hit.t * length(r.dir));
+            }
         }
         if shading_active && next_light_sample(&shading, rng) {
             r = Ray(shading.shadow_origin, shading.incidence.to_light, camera.time);
@@ -469,5 +472,8 @@ fn trace_whitted(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= params.width || id.y >= params.height {
         return;
     }
-    write_sample(id, whitted_sample(id.x, id.y, params.sample_offset + id.z));
+    let index = pass_sample(id);
+    if index != NO_INDEX {
+        write_sample(id, whitted_sample(id.x, id.y, index));
+    }
 }

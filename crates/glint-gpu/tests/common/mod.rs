@@ -97,7 +97,7 @@ pub fn render_cpu(scene: &RenderScene) -> Image {
 }
 
 pub fn render_gpu(gpu: &Gpu, scene: &RenderScene) -> Image {
-    glint_gpu::render(gpu, scene, &|_, _| {}, &AtomicBool::new(false)).expect("GPU render")
+    glint_gpu::render(gpu, scene, &|_, _| {}, &AtomicBool::new(false)).expect("GPU render").0
 }
 
 /// Per-pixel agreement of two renders of the same samples.
