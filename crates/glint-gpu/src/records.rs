@@ -271,9 +271,10 @@ pub struct Params {
     /// 1 in the adaptive round whose samples bring every pixel to the minimum: its
     /// decision looks at the neighbours' means (film.wgsl's `adaptive_decide`).
     pub adaptive_first: u32,
+    /// Float-array index of the superellipsoids' exponents: `e1`, `e2` each.
+    pub superellipsoid_offset: u32,
     /// Keep the vectors below 16-byte aligned (single words: a uniform array's
     /// elements would each take 16 bytes).
-    pub reserved0: u32,
     pub reserved1: u32,
     pub reserved2: u32,
     pub background: [f32; 4],
@@ -348,7 +349,7 @@ gpu_record!(pub PARAMS = Params as "Params" {
     adaptive_max: U32 => adaptive_max,
     adaptive_threshold: F32 => adaptive_threshold,
     adaptive_first: U32 => adaptive_first,
-    reserved0: U32 => reserved0,
+    superellipsoid_offset: U32 => superellipsoid_offset,
     reserved1: U32 => reserved1,
     reserved2: U32 => reserved2,
     background: Vec4 => background,

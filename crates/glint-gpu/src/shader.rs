@@ -27,12 +27,13 @@ pub mod binding {
     pub const STORAGE_COUNT: u32 = 16;
 }
 
-const MODULES: [&str; 11] = [
+const MODULES: [&str; 12] = [
     include_str!("shaders/common.wgsl"),
     include_str!("shaders/geometry.wgsl"),
     include_str!("shaders/quadric.wgsl"),
     include_str!("shaders/torus.wgsl"),
     include_str!("shaders/csg.wgsl"),
+    include_str!("shaders/implicit.wgsl"),
     include_str!("shaders/bsdf.wgsl"),
     include_str!("shaders/emitter.wgsl"),
     include_str!("shaders/path.wgsl"),
@@ -92,6 +93,7 @@ pub fn constants() -> String {
         ("LIGHT_DISK", LightKind::Disk as u32),
         ("LIGHT_SPHERE", LightKind::Sphere as u32),
         ("NO_TEXTURE", glint_core::material::NO_TEXTURE),
+        ("KIND_SUPERELLIPSOID", glint_core::shape::ShapeKind::Superellipsoid as u32),
     ];
     values.iter().map(|(name, value)| format!("const {name}: u32 = {value}u;\n")).collect()
 }

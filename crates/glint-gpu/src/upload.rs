@@ -57,7 +57,11 @@ pub fn unsupported(scene: &RenderScene) -> Option<String> {
         return Some(format!("CSG with {k:?} operands"));
     }
     let drawn = |k: ShapeKind| {
-        gpu_solid(k) || matches!(k, ShapeKind::Disk | ShapeKind::Rectangle | ShapeKind::Mesh | ShapeKind::Csg)
+        gpu_solid(k)
+            || matches!(
+                k,
+                ShapeKind::Disk | ShapeKind::Rectangle | ShapeKind::Mesh | ShapeKind::Csg | ShapeKind::Superellipsoid
+            )
     };
     let kind = scene.instances.iter().map(|i| i.shape.kind).find(|&k| !drawn(k));
     kind.map(|k| format!("{k:?} shapes"))
@@ -222,6 +226,7 @@ fn params(scene: &RenderScene, a: &mut Arrays, texel_offset: u32, instance_emitt
                 .flat_map(|q| q.coefficients.into_iter().chain(q.min.to_array()).chain(q.max.to_array())),
         ),
         has_motion: (!scene.motions.is_empty()) as u32,
+        superellipsoid_offset: a.push_floats(scene.shape_tables.superellipsoids.iter().flat_map(|s| [s.e1, s.e2])),
         aovs: s.aovs as u32,
         env_scale: [0.0; 4],
         env_from_world: Mat4::IDENTITY,

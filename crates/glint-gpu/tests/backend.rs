@@ -33,6 +33,8 @@ plane { material "white" translate [0 -0.01 0] }
 mesh_instance "ball" { material "red" scale 0.3 translate [0.2 1.3 -0.6] }
 material "ghost" { bsdf diffuse { reflectance [0.6 0.5 0.2] } casts_shadows false }
 sphere { material "ghost" scale 0.25 translate [0.9 1.5 0.6] }
+superellipsoid { material "red" exponents [0.3 0.3] scale 0.22 rotate [0 1 0] 30 translate [-1.2 1.2 0.3] }
+superellipsoid { material "white" exponents [2.5 2.5] scale 0.3 translate [1.4 1.1 0.5] }
 "#;
 
 /// Every BSDF kind, textured parameters, and a Phong material read as a BSDF.

@@ -88,6 +88,33 @@ fn gpu_hits_are_the_cpu_hits_on_every_shape() {
     assert!(mismatches * 1000 <= rays.len(), "{mismatches} of {} rays differ", rays.len());
 }
 
+/// Superellipsoids, found by interval bisection in f32 on the GPU and in f64 on the
+/// CPU: from nearly a cube to a four-pointed star, turned and squashed.
+const SUPERELLIPSOIDS: &str = r#"
+settings { width 8 height 8 integrator path {} }
+camera { eye [0 0 6] look_at [0 0 0] fov 40 }
+material "m" { bsdf diffuse { reflectance 0.5 } }
+superellipsoid { material "m" exponents [0.05 0.05] scale 0.6 rotate [1 1 0] 30 translate [-1.6 1 0] }
+superellipsoid { material "m" exponents [0.25 0.25] scale 0.7 translate [0.4 1.1 -0.5] }
+superellipsoid { material "m" exponents [0.3 1] scale [1 0.55 1] rotate [1 0 0] 20 translate [1.8 -0.2 0.5] }
+superellipsoid { material "m" exponents [1 1] scale 0.5 translate [-1.7 -1.1 1] }
+superellipsoid { material "m" exponents [2 2] scale 0.8 rotate [0 1 0] 20 translate [-0.2 -1 0] }
+superellipsoid { material "m" exponents [3 3] scale 1.1 rotate [0 1 0] 30 translate [0.6 -0.8 2] }
+"#;
+
+#[test]
+fn gpu_hits_are_the_cpu_hits_on_superellipsoids() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let scene = common::scene(SUPERELLIPSOIDS, 8, 8, 1);
+    let rays = random_rays(2, 4096);
+    let (hits, mismatches) = compare(&scene, &rays);
+    eprintln!("{hits} hits, {mismatches} mismatches of {}", rays.len());
+    assert!(hits > 1000, "the rays must mostly hit something: {hits}");
+    assert!(mismatches * 1000 <= rays.len(), "{mismatches} of {} rays differ", rays.len());
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 4, ..ProptestConfig::default() })]
 

@@ -654,6 +654,9 @@ fn intersect_instance(index: u32, r: Ray, t_max: f32, any_hit: bool) -> ShapeHit
     if inst.kind == KIND_CSG {
         return intersect_csg(bitcast<u32>(inst.param), local, t_max);
     }
+    if inst.kind == KIND_SUPERELLIPSOID {
+        return intersect_superellipsoid(bitcast<u32>(inst.param), local, t_max);
+    }
     return intersect_analytic(inst.kind, local, t_max);
 }
 
@@ -813,6 +816,8 @@ fn hit_from(r: Ray, found: SceneHit) -> Hit {
         } else if inst.kind == KIND_CSG {
             s = csg_surface(local, h);
             hit.material = csg_material(h.part);
+        } else if inst.kind == KIND_SUPERELLIPSOID {
+            s = superellipsoid_surface(bitcast<u32>(inst.param), local, h);
         } else {
             s = analytic_surface(inst.kind, local, h);
         }
