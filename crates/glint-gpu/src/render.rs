@@ -58,6 +58,9 @@ struct AdaptiveKernels {
 impl<'g> Progressive<'g> {
     /// Uploads the scene and compiles the kernels.
     pub fn new(gpu: &'g Gpu, scene: &RenderScene) -> Result<Self, GpuError> {
+        if let Some(reason) = crate::upload::beyond_adapter(gpu, scene) {
+            return Err(GpuError::Unsuitable { adapter: gpu.info.name.clone(), reason });
+        }
         let gpu_scene = GpuScene::new(gpu, scene)?;
         let (width, height) = (scene.settings.width as u64, scene.settings.height as u64);
         let pixels = width * height;
@@ -497,6 +500,58 @@ pub fn trace_rays(gpu: &Gpu, scene: &RenderScene, rays: &[RayQuery]) -> Result<V
             (found == 1.0).then(|| RayHit { t, instance: instance.to_bits(), part: part.to_bits() })
         })
         .collect())
+}
+
+/// Runs a loop of [`crate::device::LOOP_CAP`] + 1000 iterations, then one of 10: on a
+/// driver that caps a kernel's loop iterations the second stops short.
+pub(crate) fn loop_iterations_capped(gpu: &Gpu) -> Result<bool, GpuError> {
+    let source = format!(
+        "@group(0) @binding(0) var<storage, read_write> out: array<u32, 2>;
+        @compute @workgroup_size(1)
+        fn probe() {{
+            var n = 0u;
+            loop {{ if n >= {long}u + out[0] {{ break; }} n += 1u; }}
+            var m = 0u;
+            loop {{ if m >= 10u + out[0] {{ break; }} m += 1u; }}
+            out[1] = m;
+        }}",
+        long = crate::device::LOOP_CAP + 1000
+    );
+    let out = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("loop probe"),
+        size: 8,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    gpu.checked("probing the driver's loops", || {
+        let module = gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("loop probe"),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
+        let pipeline = gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("loop probe"),
+            layout: None,
+            module: &module,
+            entry_point: Some("probe"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("loop probe"),
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: out.as_entire_binding() }],
+        });
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        {
+            let mut cpass = encoder.begin_compute_pass(&Default::default());
+            cpass.set_pipeline(&pipeline);
+            cpass.set_bind_group(0, &bind_group, &[]);
+            cpass.dispatch_workgroups(1, 1, 1);
+        }
+        gpu.queue.submit([encoder.finish()]);
+    })?;
+    let counts: Vec<u32> = read_buffer(gpu, &out)?;
+    Ok(counts[1] != 10)
 }
 
 /// Copies a device buffer back and reads it as `T`s.
