@@ -108,10 +108,10 @@ impl<'g> Progressive<'g> {
             };
             let adaptive = scene.settings.adaptive.map(|settings| AdaptiveKernels {
                 settings,
-                update: kernels.pipeline(gpu, "adaptive_update"),
-                decide: kernels.pipeline(gpu, "adaptive_decide"),
+                update: kernels.pipeline(gpu, "adaptive_update", scene),
+                decide: kernels.pipeline(gpu, "adaptive_decide", scene),
             });
-            (kernels.pipeline(gpu, entry), kernels.pipeline(gpu, "splat"), adaptive, bind_group)
+            (kernels.pipeline(gpu, entry, scene), kernels.pipeline(gpu, "splat", scene), adaptive, bind_group)
         })?;
         let render = Progressive {
             gpu,
@@ -352,6 +352,22 @@ fn film_stride_of(params: &crate::records::Params) -> usize {
     if params.aovs != 0 { 3 } else { 1 }
 }
 
+/// The pipeline-overridable constants that leave out of a scene's kernels the code of
+/// what it does not have (see implicit.wgsl's `SOLVED_SHAPES`).
+fn specialization(scene: &RenderScene) -> [(&'static str, f64); 5] {
+    use glint_core::shape::{CsgOp, ShapeKind};
+    let leaves = scene.shape_tables.csg_nodes.iter().filter(|n| n.op == CsgOp::Leaf).map(|n| n.shape.kind);
+    let kinds: Vec<ShapeKind> = scene.instances.iter().map(|i| i.shape.kind).chain(leaves).collect();
+    let has = |wanted: &[ShapeKind]| f64::from(u8::from(kinds.iter().any(|k| wanted.contains(k))));
+    [
+        ("SOLVED_SHAPES", has(&[ShapeKind::Superellipsoid, ShapeKind::Implicit, ShapeKind::Blob])),
+        ("MESHES", has(&[ShapeKind::Mesh])),
+        ("QUADRICS", has(&[ShapeKind::Quadric])),
+        ("TORI", has(&[ShapeKind::Torus])),
+        ("CSG_SHAPES", has(&[ShapeKind::Csg])),
+    ]
+}
+
 /// The compiled program and the one bind-group layout all its kernels share.
 struct Kernels {
     module: wgpu::ShaderModule,
@@ -374,13 +390,15 @@ impl Kernels {
         Kernels { module, layout, pipeline_layout }
     }
 
-    fn pipeline(&self, gpu: &Gpu, entry: &str) -> wgpu::ComputePipeline {
+    /// The kernel `entry`, specialized for `scene` ([`specialization`]).
+    fn pipeline(&self, gpu: &Gpu, entry: &str, scene: &RenderScene) -> wgpu::ComputePipeline {
+        let constants = specialization(scene);
         gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(entry),
             layout: Some(&self.pipeline_layout),
             module: &self.module,
             entry_point: Some(entry),
-            compilation_options: Default::default(),
+            compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
             cache: None,
         })
     }
@@ -481,7 +499,7 @@ pub fn trace_rays(gpu: &Gpu, scene: &RenderScene, rays: &[RayQuery]) -> Result<V
             mapped_at_creation: false,
         });
         let bind_group = kernels.bind(gpu, &gpu_scene, &params_buffer, [&samples, &accum, &faults]);
-        let pipeline = kernels.pipeline(gpu, "trace_rays");
+        let pipeline = kernels.pipeline(gpu, "trace_rays", scene);
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         {
             let mut cpass = encoder.begin_compute_pass(&Default::default());

@@ -6,6 +6,18 @@
 // of f and of the sign of df/dt over [a, b] (`RayFunction`); the superellipsoid is the
 // first.
 
+// Whether the scene has shapes solved numerically (superellipsoids, implicit surfaces,
+// blobs), set per pipeline (render.rs): without them the driver drops this code from
+// the kernels. On lavapipe that matters beyond size: it runs code that no lane takes
+// with every lane masked off, and each loop so passed counts towards its cap of
+// 65 535 loop iterations per invocation (`Gpu::caps_loop_iterations`).
+override SOLVED_SHAPES: bool = true;
+// The same for the other shapes whose code holds loops (render.rs `specialization`).
+override MESHES: bool = true;
+override QUADRICS: bool = true;
+override TORI: bool = true;
+override CSG_SHAPES: bool = true;
+
 // A function of the ray parameter: which shape, its record, and the object-space ray.
 struct RayFunction {
     kind: u32,
