@@ -21,31 +21,39 @@ fn has_adapter() -> bool {
     glint_gpu::Gpu::new().is_ok() || std::env::var_os("GLINT_REQUIRE_GPU").is_some()
 }
 
-#[test]
-fn gpu_refuses_a_blob_scene_in_one_sentence_and_writes_nothing() {
-    let out = temp("blobs.png");
-    let output =
-        glint().args(["render", "--device", "gpu", "-q", "-o"]).arg(&out).arg(scene("blobs.glint")).output().unwrap();
-    assert!(!output.status.success());
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(stderr.contains("cannot be rendered on the GPU yet: Blob shapes"), "{stderr}");
-    assert!(!out.exists());
+/// A scene with something the GPU does not render yet: CSG of a superellipsoid.
+fn csg_of_a_superellipsoid() -> PathBuf {
+    let path = temp("superellipsoid-csg.glint");
+    let source = "settings { width 16 height 12 }\ncamera { eye [0 0 4] look_at [0 0 0] }\n\
+                  light point { position [2 3 4] color [1 1 1] }\nmaterial \"m\" { diffuse [0.8 0.3 0.2] }\n\
+                  difference { material \"m\" superellipsoid { exponents [0.3 0.3] } sphere { scale 0.7 } }\n";
+    std::fs::write(&path, source).unwrap();
+    path
 }
 
 #[test]
-fn auto_renders_a_blob_scene_on_the_cpu_and_says_so() {
+fn gpu_refuses_an_unsupported_scene_in_one_sentence_and_writes_nothing() {
+    let out = temp("refused.png");
+    let scene = csg_of_a_superellipsoid();
+    let output = glint().args(["render", "--device", "gpu", "-q", "-o"]).arg(&out).arg(&scene).output().unwrap();
+    assert!(!output.status.success());
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("cannot be rendered on the GPU yet: CSG with Superellipsoid operands"), "{stderr}");
+    assert!(!out.exists());
+    let _ = std::fs::remove_file(scene);
+}
+
+#[test]
+fn auto_renders_an_unsupported_scene_on_the_cpu_and_says_so() {
     let out = temp("auto.png");
-    let output = glint()
-        .args(["render", "--device", "auto", "--width", "16", "--height", "12", "-o"])
-        .arg(&out)
-        .arg(scene("blobs.glint"))
-        .output()
-        .unwrap();
+    let scene = csg_of_a_superellipsoid();
+    let output = glint().args(["render", "--device", "auto", "-o"]).arg(&out).arg(&scene).output().unwrap();
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
     let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(stderr.contains("rendering on the CPU: the GPU backend does not render Blob shapes yet"), "{stderr}");
+    let said = "rendering on the CPU: the GPU backend does not render CSG with Superellipsoid operands yet";
+    assert!(stderr.contains(said), "{stderr}");
     assert!(out.exists());
-    let _ = std::fs::remove_file(out);
+    let _ = (std::fs::remove_file(out), std::fs::remove_file(scene));
 }
 
 /// Renders `name` small on the CPU and on the GPU and asserts the 8-bit sRGB images

@@ -23,12 +23,18 @@ pub enum GpuError {
     Device(String),
 }
 
+/// Loop iterations a kernel may run in all on a driver that caps them
+/// ([`Gpu::caps_loop_iterations`]).
+pub const LOOP_CAP: u32 = 65_535;
+
 /// An opened GPU: the device and queue every kernel runs on, and what it is.
 pub struct Gpu {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
     pub info: wgpu::AdapterInfo,
     pub limits: wgpu::Limits,
+    /// Whether the driver caps loop iterations, once measured.
+    loop_cap: std::sync::OnceLock<bool>,
 }
 
 impl Gpu {
@@ -60,7 +66,7 @@ impl Gpu {
         };
         let (device, queue) = pollster::block_on(adapter.request_device(&descriptor))
             .map_err(|e| unsuitable(format!("opening it failed: {e}")))?;
-        Ok(Gpu { device, queue, info, limits })
+        Ok(Gpu { device, queue, info, limits, loop_cap: std::sync::OnceLock::new() })
     }
 
     /// Whether the adapter is a real GPU rather than a CPU driver (lavapipe,
@@ -68,6 +74,14 @@ impl Gpu {
     /// one of those.
     pub fn is_hardware(&self) -> bool {
         self.info.device_type != wgpu::DeviceType::Cpu
+    }
+
+    /// Whether this driver stops every loop of a kernel once the kernel has run
+    /// [`LOOP_CAP`] loop iterations in all, as Mesa's lavapipe 22.3 (Debian 12) does:
+    /// a kernel that goes on past it silently computes wrong results. Measured once,
+    /// by a kernel that runs one loop past the cap and then a short one.
+    pub fn caps_loop_iterations(&self) -> bool {
+        *self.loop_cap.get_or_init(|| crate::render::loop_iterations_capped(self).unwrap_or(true))
     }
 
     /// "name (backend, driver)", for saying where a render runs.

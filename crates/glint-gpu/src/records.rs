@@ -273,10 +273,10 @@ pub struct Params {
     pub adaptive_first: u32,
     /// Float-array index of the superellipsoids' exponents: `e1`, `e2` each.
     pub superellipsoid_offset: u32,
-    /// Keep the vectors below 16-byte aligned (single words: a uniform array's
-    /// elements would each take 16 bytes).
-    pub reserved1: u32,
-    pub reserved2: u32,
+    /// Word-array index of the implicit surfaces' records (see implicit.wgsl).
+    pub implicit_offset: u32,
+    /// Word-array index of the blobs' records (see implicit.wgsl).
+    pub blob_offset: u32,
     pub background: [f32; 4],
     /// Whitted: the ambient light `L_a`.
     pub ambient: [f32; 4],
@@ -350,8 +350,8 @@ gpu_record!(pub PARAMS = Params as "Params" {
     adaptive_threshold: F32 => adaptive_threshold,
     adaptive_first: U32 => adaptive_first,
     superellipsoid_offset: U32 => superellipsoid_offset,
-    reserved1: U32 => reserved1,
-    reserved2: U32 => reserved2,
+    implicit_offset: U32 => implicit_offset,
+    blob_offset: U32 => blob_offset,
     background: Vec4 => background,
     ambient: Vec4 => ambient,
     env_scale: Vec4 => env_scale,

@@ -58,6 +58,9 @@ struct AdaptiveKernels {
 impl<'g> Progressive<'g> {
     /// Uploads the scene and compiles the kernels.
     pub fn new(gpu: &'g Gpu, scene: &RenderScene) -> Result<Self, GpuError> {
+        if let Some(reason) = crate::upload::beyond_adapter(gpu, scene) {
+            return Err(GpuError::Unsuitable { adapter: gpu.info.name.clone(), reason });
+        }
         let gpu_scene = GpuScene::new(gpu, scene)?;
         let (width, height) = (scene.settings.width as u64, scene.settings.height as u64);
         let pixels = width * height;
@@ -105,10 +108,10 @@ impl<'g> Progressive<'g> {
             };
             let adaptive = scene.settings.adaptive.map(|settings| AdaptiveKernels {
                 settings,
-                update: kernels.pipeline(gpu, "adaptive_update"),
-                decide: kernels.pipeline(gpu, "adaptive_decide"),
+                update: kernels.pipeline(gpu, "adaptive_update", scene),
+                decide: kernels.pipeline(gpu, "adaptive_decide", scene),
             });
-            (kernels.pipeline(gpu, entry), kernels.pipeline(gpu, "splat"), adaptive, bind_group)
+            (kernels.pipeline(gpu, entry, scene), kernels.pipeline(gpu, "splat", scene), adaptive, bind_group)
         })?;
         let render = Progressive {
             gpu,
@@ -349,6 +352,22 @@ fn film_stride_of(params: &crate::records::Params) -> usize {
     if params.aovs != 0 { 3 } else { 1 }
 }
 
+/// The pipeline-overridable constants that leave out of a scene's kernels the code of
+/// what it does not have (see implicit.wgsl's `SOLVED_SHAPES`).
+fn specialization(scene: &RenderScene) -> [(&'static str, f64); 5] {
+    use glint_core::shape::{CsgOp, ShapeKind};
+    let leaves = scene.shape_tables.csg_nodes.iter().filter(|n| n.op == CsgOp::Leaf).map(|n| n.shape.kind);
+    let kinds: Vec<ShapeKind> = scene.instances.iter().map(|i| i.shape.kind).chain(leaves).collect();
+    let has = |wanted: &[ShapeKind]| f64::from(u8::from(kinds.iter().any(|k| wanted.contains(k))));
+    [
+        ("SOLVED_SHAPES", has(&[ShapeKind::Superellipsoid, ShapeKind::Implicit, ShapeKind::Blob])),
+        ("MESHES", has(&[ShapeKind::Mesh])),
+        ("QUADRICS", has(&[ShapeKind::Quadric])),
+        ("TORI", has(&[ShapeKind::Torus])),
+        ("CSG_SHAPES", has(&[ShapeKind::Csg])),
+    ]
+}
+
 /// The compiled program and the one bind-group layout all its kernels share.
 struct Kernels {
     module: wgpu::ShaderModule,
@@ -371,13 +390,15 @@ impl Kernels {
         Kernels { module, layout, pipeline_layout }
     }
 
-    fn pipeline(&self, gpu: &Gpu, entry: &str) -> wgpu::ComputePipeline {
+    /// The kernel `entry`, specialized for `scene` ([`specialization`]).
+    fn pipeline(&self, gpu: &Gpu, entry: &str, scene: &RenderScene) -> wgpu::ComputePipeline {
+        let constants = specialization(scene);
         gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(entry),
             layout: Some(&self.pipeline_layout),
             module: &self.module,
             entry_point: Some(entry),
-            compilation_options: Default::default(),
+            compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
             cache: None,
         })
     }
@@ -478,7 +499,7 @@ pub fn trace_rays(gpu: &Gpu, scene: &RenderScene, rays: &[RayQuery]) -> Result<V
             mapped_at_creation: false,
         });
         let bind_group = kernels.bind(gpu, &gpu_scene, &params_buffer, [&samples, &accum, &faults]);
-        let pipeline = kernels.pipeline(gpu, "trace_rays");
+        let pipeline = kernels.pipeline(gpu, "trace_rays", scene);
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         {
             let mut cpass = encoder.begin_compute_pass(&Default::default());
@@ -497,6 +518,58 @@ pub fn trace_rays(gpu: &Gpu, scene: &RenderScene, rays: &[RayQuery]) -> Result<V
             (found == 1.0).then(|| RayHit { t, instance: instance.to_bits(), part: part.to_bits() })
         })
         .collect())
+}
+
+/// Runs a loop of [`crate::device::LOOP_CAP`] + 1000 iterations, then one of 10: on a
+/// driver that caps a kernel's loop iterations the second stops short.
+pub(crate) fn loop_iterations_capped(gpu: &Gpu) -> Result<bool, GpuError> {
+    let source = format!(
+        "@group(0) @binding(0) var<storage, read_write> out: array<u32, 2>;
+        @compute @workgroup_size(1)
+        fn probe() {{
+            var n = 0u;
+            loop {{ if n >= {long}u + out[0] {{ break; }} n += 1u; }}
+            var m = 0u;
+            loop {{ if m >= 10u + out[0] {{ break; }} m += 1u; }}
+            out[1] = m;
+        }}",
+        long = crate::device::LOOP_CAP + 1000
+    );
+    let out = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("loop probe"),
+        size: 8,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    gpu.checked("probing the driver's loops", || {
+        let module = gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("loop probe"),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
+        let pipeline = gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("loop probe"),
+            layout: None,
+            module: &module,
+            entry_point: Some("probe"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("loop probe"),
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: out.as_entire_binding() }],
+        });
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        {
+            let mut cpass = encoder.begin_compute_pass(&Default::default());
+            cpass.set_pipeline(&pipeline);
+            cpass.set_bind_group(0, &bind_group, &[]);
+            cpass.dispatch_workgroups(1, 1, 1);
+        }
+        gpu.queue.submit([encoder.finish()]);
+    })?;
+    let counts: Vec<u32> = read_buffer(gpu, &out)?;
+    Ok(counts[1] != 10)
 }
 
 /// Copies a device buffer back and reads it as `T`s.

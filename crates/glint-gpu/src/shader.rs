@@ -94,6 +94,8 @@ pub fn constants() -> String {
         ("LIGHT_SPHERE", LightKind::Sphere as u32),
         ("NO_TEXTURE", glint_core::material::NO_TEXTURE),
         ("KIND_SUPERELLIPSOID", glint_core::shape::ShapeKind::Superellipsoid as u32),
+        ("KIND_IMPLICIT", glint_core::shape::ShapeKind::Implicit as u32),
+        ("KIND_BLOB", glint_core::shape::ShapeKind::Blob as u32),
     ];
     values.iter().map(|(name, value)| format!("const {name}: u32 = {value}u;\n")).collect()
 }

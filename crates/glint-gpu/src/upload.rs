@@ -36,6 +36,20 @@ pub(crate) struct SceneBuffers {
     pub lights: wgpu::Buffer,
 }
 
+/// What this adapter cannot render of a scene the GPU backend renders, as a clause;
+/// `None` when it can: implicit surfaces and blobs need more loop iterations than a
+/// driver that caps them allows ([`Gpu::caps_loop_iterations`]).
+pub fn beyond_adapter(gpu: &Gpu, scene: &RenderScene) -> Option<String> {
+    let solved = scene.instances.iter().any(|i| matches!(i.shape.kind, ShapeKind::Implicit | ShapeKind::Blob));
+    (solved && gpu.caps_loop_iterations()).then(|| {
+        format!(
+            "its driver stops a kernel's loops after {} iterations in all, fewer than implicit surfaces and \
+             blobs need; render with --device cpu",
+            crate::device::LOOP_CAP
+        )
+    })
+}
+
 /// Solids the GPU intersects, alone or as CSG operands.
 fn gpu_solid(kind: ShapeKind) -> bool {
     matches!(
@@ -60,7 +74,13 @@ pub fn unsupported(scene: &RenderScene) -> Option<String> {
         gpu_solid(k)
             || matches!(
                 k,
-                ShapeKind::Disk | ShapeKind::Rectangle | ShapeKind::Mesh | ShapeKind::Csg | ShapeKind::Superellipsoid
+                ShapeKind::Disk
+                    | ShapeKind::Rectangle
+                    | ShapeKind::Mesh
+                    | ShapeKind::Csg
+                    | ShapeKind::Superellipsoid
+                    | ShapeKind::Implicit
+                    | ShapeKind::Blob
             )
     };
     let kind = scene.instances.iter().map(|i| i.shape.kind).find(|&k| !drawn(k));
@@ -154,7 +174,7 @@ impl GpuScene {
             bsdfs: buffer("materials", records_bytes(&scene.bsdfs))?,
             emitters: buffer("emitters", records_bytes(&scene.emitters))?,
             floats: buffer("vertices, textures and tables", bytemuck::cast_slice(&a.floats))?,
-            words: buffer("triangle indices", bytemuck::cast_slice(&a.words))?,
+            words: buffer("triangle indices, instance emitters and implicit programs", bytemuck::cast_slice(&a.words))?,
             textures: buffer("textures", records_bytes(&scene.textures))?,
             motions: buffer("motions", records_bytes(&scene.motions))?,
             csg_nodes: buffer("CSG nodes", records_bytes(&scene.shape_tables.csg_nodes))?,
@@ -227,6 +247,8 @@ fn params(scene: &RenderScene, a: &mut Arrays, texel_offset: u32, instance_emitt
         ),
         has_motion: (!scene.motions.is_empty()) as u32,
         superellipsoid_offset: a.push_floats(scene.shape_tables.superellipsoids.iter().flat_map(|s| [s.e1, s.e2])),
+        implicit_offset: push_implicits(scene, a),
+        blob_offset: push_blobs(scene, a),
         aovs: s.aovs as u32,
         env_scale: [0.0; 4],
         env_from_world: Mat4::IDENTITY,
@@ -252,6 +274,43 @@ fn params(scene: &RenderScene, a: &mut Arrays, texel_offset: u32, instance_emitt
         }
     }
     p
+}
+
+/// The implicit surfaces' programs into the word array as (opcode, argument bits)
+/// pairs, then their records (implicit.wgsl's `ImplicitRecord`: min, max and the
+/// Lipschitz bound as float bits, the first pair's word index, the pair count);
+/// returns the records' word index.
+fn push_implicits(scene: &RenderScene, a: &mut Arrays) -> u32 {
+    let tables = &scene.shape_tables;
+    let code_at = a.words.len() as u32;
+    a.words.extend(tables.implicit_code.iter().flat_map(|op| [op.code as u32, op.arg.to_bits()]));
+    let records_at = a.words.len() as u32;
+    for r in &tables.implicits {
+        let floats = r.min.to_array().into_iter().chain(r.max.to_array()).chain([r.lipschitz]);
+        a.words.extend(floats.map(f32::to_bits));
+        a.words.extend([code_at + 2 * r.first, r.len]);
+    }
+    records_at
+}
+
+/// The blobs' components into the float array (implicit.wgsl's `BlobComponent`), then
+/// their records into the word array (`BlobRecord`: min, max and threshold as float
+/// bits, the first component's float index, the component count); returns the
+/// records' word index.
+fn push_blobs(scene: &RenderScene, a: &mut Arrays) -> u32 {
+    let tables = &scene.shape_tables;
+    let components = tables.blob_components.iter().flat_map(|c| {
+        let m = c.component_from_blob.to_cols_array();
+        m.into_iter().chain(c.offset.to_array()).chain([c.strength, c.half_length])
+    });
+    let components_at = a.push_floats(components.collect::<Vec<_>>());
+    let records_at = a.words.len() as u32;
+    for b in &tables.blobs {
+        let floats = b.min.to_array().into_iter().chain(b.max.to_array()).chain([b.threshold]);
+        a.words.extend(floats.map(f32::to_bits));
+        a.words.extend([components_at + 14 * b.first, b.count]);
+    }
+    records_at
 }
 
 /// The pass parameters a viewer changes between renders of one uploaded scene: the

@@ -115,6 +115,74 @@ fn gpu_hits_are_the_cpu_hits_on_superellipsoids() {
     assert!(mismatches * 1000 <= rays.len(), "{mismatches} of {} rays differ", rays.len());
 }
 
+/// Implicit surfaces, their bytecode run on the GPU with f32 intervals: a polynomial
+/// (Goursat's tangle cube), a heart with odd powers, a gyroid sheet of sines and
+/// cosines under max and abs with a Lipschitz bound, and a ball with an exponential
+/// bump that fills its box (its faces are the surface). Each is traced alone:
+/// lavapipe stops a kernel's loops after 65 535 iterations in all
+/// (`Gpu::caps_loop_iterations`), which a ray crossing several of these can reach.
+const IMPLICITS: [&str; 4] = [
+    r#"implicit { material "m" function "x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8" bounds [-2.6 -2.6 -2.6] [2.6 2.6 2.6] scale 0.8 rotate [0 1 0] 30 }"#,
+    r#"implicit { material "m" function "(x^2 + 2.25*z^2 + y^2 - 1)^3 - x^2*y^3 - 0.1125*z^2*y^3" bounds [-1.4 -1.4 -1.4] [1.4 1.4 1.4] scale 1.5 }"#,
+    r#"implicit { material "m" function "max(abs(sin(4*x)*cos(4*y) + sin(4*y)*cos(4*z) + sin(4*z)*cos(4*x)) - 0.4, x^2 + y^2 + z^2 - 1)" bounds [-1.05 -1.05 -1.05] [1.05 1.05 1.05] lipschitz 14 scale 2 }"#,
+    r#"implicit { material "m" function "sqrt(x^2 + y^2 + z^2) - 1.2 + exp(-4*x^2)/(2 + y)" bounds [-0.8 -0.8 -0.8] [0.8 0.8 0.8] scale 2 }"#,
+];
+
+#[test]
+fn gpu_hits_are_the_cpu_hits_on_implicit_surfaces() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let head = "settings { width 8 height 8 integrator path {} }\ncamera { eye [0 0 6] look_at [0 0 0] fov 40 }\nmaterial \"m\" { bsdf diffuse { reflectance 0.5 } }\n";
+    for (k, shape) in IMPLICITS.iter().enumerate() {
+        let scene = common::scene(&format!("{head}{shape}\n"), 8, 8, 1);
+        let rays = random_rays(3 + k as u32, 2048);
+        let (hits, mismatches) = compare(&scene, &rays);
+        eprintln!("implicit {k}: {hits} hits, {mismatches} mismatches of {}", rays.len());
+        assert!(hits > 300, "implicit {k}: the rays must often hit it: {hits}");
+        assert!(mismatches * 1000 <= rays.len(), "implicit {k}: {mismatches} of {} rays differ", rays.len());
+    }
+}
+
+/// Blobs, solved on the GPU by interval bisection over the summed field and on the
+/// CPU by root isolation of its quartic pieces: spheres with a carving negative
+/// component, a capsule with a squashed sphere, and two spheres joined by a thin neck.
+/// Each is traced alone, as the implicit surfaces are.
+const BLOBS: [&str; 3] = [
+    r#"blob { material "m" threshold 0.5
+        component sphere { center [0 0 0] radius 1.1 strength 1 }
+        component sphere { center [0.75 0.3 0] radius 0.8 strength 1 }
+        component sphere { center [-0.6 0.5 0.3] radius 0.8 strength 1 }
+        component sphere { center [0 -0.2 0.7] radius 0.7 strength 1 }
+        component sphere { center [0.3 0.75 0.75] radius 0.7 strength -1.5 }
+        scale 1.5 }"#,
+    r#"blob { material "m" threshold 0.4
+        component cylinder { from [-0.9 0 0] to [0.9 0 0] radius 0.55 strength 1 }
+        component sphere { radius 1 strength 1 scale [0.5 1.3 0.5] translate [0 0.6 0] }
+        component sphere { center [-1.1 0 0] radius 0.7 strength 0.9 }
+        rotate [0 1 0] 25 scale 1.4 }"#,
+    r#"blob { material "m" threshold 0.255
+        component sphere { center [-0.8 0 0] radius 1 strength 1 }
+        component sphere { center [0.8 0 0] radius 1 strength 1 }
+        scale 1.5 }"#,
+];
+
+#[test]
+fn gpu_hits_are_the_cpu_hits_on_blobs() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let head = "settings { width 8 height 8 integrator path {} }\ncamera { eye [0 0 6] look_at [0 0 0] fov 40 }\nmaterial \"m\" { bsdf diffuse { reflectance 0.5 } }\n";
+    for (k, shape) in BLOBS.iter().enumerate() {
+        let scene = common::scene(&format!("{head}{shape}\n"), 8, 8, 1);
+        let rays = random_rays(7 + k as u32, 2048);
+        let (hits, mismatches) = compare(&scene, &rays);
+        eprintln!("blob {k}: {hits} hits, {mismatches} mismatches of {}", rays.len());
+        assert!(hits > 300, "blob {k}: the rays must often hit it: {hits}");
+        assert!(mismatches * 1000 <= rays.len(), "blob {k}: {mismatches} of {} rays differ", rays.len());
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 4, ..ProptestConfig::default() })]
 

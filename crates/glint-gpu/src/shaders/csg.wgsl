@@ -146,10 +146,14 @@ fn leaf_spans(kind: u32, param: f32, r: Ray) -> SpanList {
             }
         }
         case 6u: {
-            out = torus_spans(param, r);
+            if TORI {
+                out = torus_spans(param, r);
+            }
         }
         case 11u: {
-            out = quadric_spans(bitcast<u32>(param), r);
+            if QUADRICS {
+                out = quadric_spans(bitcast<u32>(param), r);
+            }
         }
         default: {}
     }
@@ -327,9 +331,9 @@ fn csg_surface(r: Ray, hit: ShapeHit) -> SurfacePoint {
     let local = object_ray(x, r);
     let leaf_hit = ShapeHit(true, hit.t, leaf.z, vec3<f32>(0.0));
     var s: SurfacePoint;
-    if node.kind == KIND_QUADRIC {
+    if QUADRICS && node.kind == KIND_QUADRIC {
         s = quadric_surface(bitcast<u32>(node.param), local, leaf_hit);
-    } else if node.kind == KIND_TORUS {
+    } else if TORI && node.kind == KIND_TORUS {
         s = torus_surface(node.param, local, leaf_hit);
     } else {
         s = analytic_surface(node.kind, local, leaf_hit);

@@ -642,20 +642,29 @@ fn object_ray(x: Xform, r: Ray) -> Ray {
 fn intersect_instance(index: u32, r: Ray, t_max: f32, any_hit: bool) -> ShapeHit {
     let inst = instances[index];
     let local = object_ray(instance_xform(inst, r.time), r);
-    if inst.kind == KIND_MESH {
+    // Each guard is a pipeline constant: a scene without the shape leaves its code out.
+    if MESHES && inst.kind == KIND_MESH {
         return trace_mesh(meshes[bitcast<u32>(inst.param)], local, t_max, any_hit);
     }
-    if inst.kind == KIND_QUADRIC {
+    if QUADRICS && inst.kind == KIND_QUADRIC {
         return intersect_quadric(bitcast<u32>(inst.param), local, t_max);
     }
-    if inst.kind == KIND_TORUS {
+    if TORI && inst.kind == KIND_TORUS {
         return intersect_torus(inst.param, local, t_max);
     }
-    if inst.kind == KIND_CSG {
+    if CSG_SHAPES && inst.kind == KIND_CSG {
         return intersect_csg(bitcast<u32>(inst.param), local, t_max);
     }
-    if inst.kind == KIND_SUPERELLIPSOID {
-        return intersect_superellipsoid(bitcast<u32>(inst.param), local, t_max);
+    if SOLVED_SHAPES {
+        if inst.kind == KIND_SUPERELLIPSOID {
+            return intersect_superellipsoid(bitcast<u32>(inst.param), local, t_max);
+        }
+        if inst.kind == KIND_IMPLICIT {
+            return intersect_implicit(bitcast<u32>(inst.param), local, t_max);
+        }
+        if inst.kind == KIND_BLOB {
+            return intersect_blob(bitcast<u32>(inst.param), local, t_max);
+        }
     }
     return intersect_analytic(inst.kind, local, t_max);
 }
@@ -809,15 +818,19 @@ fn hit_from(r: Ray, found: SceneHit) -> Hit {
     let to_world = xform.world_from_object;
     if inst.kind != KIND_MESH {
         var s: SurfacePoint;
-        if inst.kind == KIND_QUADRIC {
+        if QUADRICS && inst.kind == KIND_QUADRIC {
             s = quadric_surface(bitcast<u32>(inst.param), local, h);
-        } else if inst.kind == KIND_TORUS {
+        } else if TORI && inst.kind == KIND_TORUS {
             s = torus_surface(inst.param, local, h);
-        } else if inst.kind == KIND_CSG {
+        } else if CSG_SHAPES && inst.kind == KIND_CSG {
             s = csg_surface(local, h);
             hit.material = csg_material(h.part);
-        } else if inst.kind == KIND_SUPERELLIPSOID {
+        } else if SOLVED_SHAPES && inst.kind == KIND_SUPERELLIPSOID {
             s = superellipsoid_surface(bitcast<u32>(inst.param), local, h);
+        } else if SOLVED_SHAPES && inst.kind == KIND_IMPLICIT {
+            s = implicit_surface(bitcast<u32>(inst.param), local, h);
+        } else if SOLVED_SHAPES && inst.kind == KIND_BLOB {
+            s = blob_surface(bitcast<u32>(inst.param), local, h);
         } else {
             s = analytic_surface(inst.kind, local, h);
         }

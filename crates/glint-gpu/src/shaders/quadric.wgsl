@@ -234,18 +234,23 @@ fn box_uv(p: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>) -> vec2<f32> {
     return vec2<f32>(azimuth_u(p - centre), v);
 }
 
+// glint_core::shape::span::box_face: the point on face `part` of the box, its normal.
+fn box_face_point(part: u32, p: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>) -> SurfacePoint {
+    let axis = (part - BOX_FACE) / 2u;
+    let upper = (part - BOX_FACE) % 2u == 1u;
+    var point = clamp(p, lo, hi);
+    point[axis] = select(lo[axis], hi[axis], upper);
+    var normal = vec3<f32>(0.0);
+    normal[axis] = select(-1.0, 1.0, upper);
+    return SurfacePoint(point, normal, box_uv(point, lo, hi));
+}
+
 fn quadric_surface(q: u32, r: Ray, hit: ShapeHit) -> SurfacePoint {
     let p = ray_at(r, hit.t);
     let lo = quadric_min(q);
     let hi = quadric_max(q);
     if hit.part >= BOX_FACE {
-        let axis = (hit.part - BOX_FACE) / 2u;
-        let upper = (hit.part - BOX_FACE) % 2u == 1u;
-        var point = clamp(p, lo, hi);
-        point[axis] = select(lo[axis], hi[axis], upper);
-        var normal = vec3<f32>(0.0);
-        normal[axis] = select(-1.0, 1.0, upper);
-        return SurfacePoint(point, normal, box_uv(point, lo, hi));
+        return box_face_point(hit.part, p, lo, hi);
     }
     // One Newton step along the gradient puts the point back on the surface.
     let g = quadric_gradient(q, p);
