@@ -647,7 +647,13 @@ fn choose_gpu(
                 return Ok(None);
             }
             match glint_gpu::Gpu::new() {
-                Ok(gpu) if gpu.is_hardware() => Ok(Some(gpu)),
+                Ok(gpu) if gpu.is_hardware() => match glint_gpu::upload::beyond_adapter(&gpu, scene) {
+                    Some(why) => {
+                        note(&format!("the GPU adapter {} cannot: {why}", gpu.describe()));
+                        Ok(None)
+                    }
+                    None => Ok(Some(gpu)),
+                },
                 Ok(gpu) => {
                     note(&format!("the only GPU adapter, {}, is a CPU driver", gpu.describe()));
                     Ok(None)
