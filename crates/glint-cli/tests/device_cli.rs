@@ -4,6 +4,8 @@
 use std::path::PathBuf;
 use std::process::Command;
 
+mod support;
+
 fn glint() -> Command {
     Command::new(env!("CARGO_BIN_EXE_glint"))
 }
@@ -115,7 +117,7 @@ fn gpu_samples_adaptively_and_writes_aov_layers_like_the_cpu() {
             .unwrap();
         let stderr = String::from_utf8_lossy(&output.stderr).to_string();
         assert!(output.status.success(), "{stderr}");
-        let depth = exr_channel(&out, "depth.Z");
+        let depth = support::exr_channel(&out, "depth.Z");
         let counts_image = glint_scene::image_out::read_image(&counts).expect("a sample-count image");
         let _ = (std::fs::remove_file(out), std::fs::remove_file(counts));
         (depth, counts_image, stderr)
@@ -130,20 +132,4 @@ fn gpu_samples_adaptively_and_writes_aov_layers_like_the_cpu() {
     // A sample at a silhouette may meet the other surface in f32 on one device.
     let close = cpu_depth.iter().zip(&gpu_depth).filter(|(a, b)| (*a - *b).abs() <= 1e-3 * (1.0 + a.abs())).count();
     assert!(close * 100 >= 98 * cpu_depth.len(), "only {close} of {} depths agree", cpu_depth.len());
-}
-
-/// One channel of an OpenEXR file's first layer, every pixel.
-fn exr_channel(path: &std::path::Path, name: &str) -> Vec<f32> {
-    use exr::prelude::{ReadChannels, ReadLayers};
-    let image = exr::prelude::read()
-        .no_deep_data()
-        .largest_resolution_level()
-        .all_channels()
-        .first_valid_layer()
-        .all_attributes()
-        .from_file(path)
-        .expect("an OpenEXR file");
-    let channels = &image.layer_data.channel_data.list;
-    let channel = channels.iter().find(|c| c.name.to_string() == name).unwrap_or_else(|| panic!("no {name}"));
-    (0..channel.sample_data.len()).map(|i| channel.sample_data.value_by_flat_index(i).to_f32()).collect()
 }

@@ -3,6 +3,8 @@
 use std::path::PathBuf;
 use std::process::Command;
 
+mod support;
+
 fn glint() -> Command {
     Command::new(env!("CARGO_BIN_EXE_glint"))
 }
@@ -26,24 +28,12 @@ fn path_traced_render_writes_albedo_normal_and_depth_layers() {
         .status()
         .unwrap();
     assert!(status.success());
-    use exr::prelude::{ReadChannels, ReadLayers};
-    let image = exr::prelude::read()
-        .no_deep_data()
-        .largest_resolution_level()
-        .all_channels()
-        .first_valid_layer()
-        .all_attributes()
-        .from_file(&out)
-        .unwrap();
-    let channels = &image.layer_data.channel_data.list;
-    let names: Vec<String> = channels.iter().map(|c| c.name.to_string()).collect();
+    let channels = support::exr_channels(&out);
+    let names: Vec<&str> = channels.iter().map(|(n, _)| n.as_str()).collect();
     for name in ["R", "G", "B", "albedo.R", "normal.X", "normal.Y", "normal.Z", "depth.Z"] {
-        assert!(names.iter().any(|n| n == name), "{name} missing from {names:?}");
+        assert!(names.contains(&name), "{name} missing from {names:?}");
     }
-    let channel = |name: &str| -> Vec<f32> {
-        let c = channels.iter().find(|c| c.name.to_string() == name).unwrap();
-        (0..24 * 24).map(|i| c.sample_data.value_by_flat_index(i).to_f32()).collect()
-    };
+    let channel = |name: &str| -> Vec<f32> { channels.iter().find(|(n, _)| n == name).unwrap().1.clone() };
     // Every camera ray meets the box: positive distances, albedos within [0, 1], unit
     // normals (where a pixel's samples all saw the same surface).
     assert!(channel("depth.Z").iter().all(|&d| d > 0.5 && d < 10.0));

@@ -286,11 +286,19 @@ fn push_implicits(scene: &RenderScene, a: &mut Arrays) -> u32 {
     a.words.extend(tables.implicit_code.iter().flat_map(|op| [op.code as u32, op.arg.to_bits()]));
     let records_at = a.words.len() as u32;
     for r in &tables.implicits {
-        let floats = r.min.to_array().into_iter().chain(r.max.to_array()).chain([r.lipschitz]);
-        a.words.extend(floats.map(f32::to_bits));
-        a.words.extend([code_at + 2 * r.first, r.len]);
+        push_box_record(a, (r.min, r.max, r.lipschitz), code_at + 2 * r.first, r.len);
     }
     records_at
+}
+
+/// One record of a shape solved in its box, as implicit.wgsl reads it from the word
+/// array: the box and one parameter as float bits, then where its run of data starts
+/// and how long it is (integers stay words: as floats, small ones would be denormals,
+/// which a device may flush to zero).
+fn push_box_record(a: &mut Arrays, (min, max, parameter): (Vec3, Vec3, f32), first: u32, count: u32) {
+    let floats = min.to_array().into_iter().chain(max.to_array()).chain([parameter]);
+    a.words.extend(floats.map(f32::to_bits));
+    a.words.extend([first, count]);
 }
 
 /// The blobs' components into the float array (implicit.wgsl's `BlobComponent`), then
@@ -306,9 +314,7 @@ fn push_blobs(scene: &RenderScene, a: &mut Arrays) -> u32 {
     let components_at = a.push_floats(components.collect::<Vec<_>>());
     let records_at = a.words.len() as u32;
     for b in &tables.blobs {
-        let floats = b.min.to_array().into_iter().chain(b.max.to_array()).chain([b.threshold]);
-        a.words.extend(floats.map(f32::to_bits));
-        a.words.extend([components_at + 14 * b.first, b.count]);
+        push_box_record(a, (b.min, b.max, b.threshold), components_at + 14 * b.first, b.count);
     }
     records_at
 }

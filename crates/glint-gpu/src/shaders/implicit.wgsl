@@ -278,7 +278,9 @@ fn superellipsoid_term(c: f32, e: f32) -> f32 {
 //
 // A program is the CPU's postfix ImplicitOp records, stored as word pairs (opcode, the
 // constant's bits). One interpreter per number type: f32 values, value-and-gradient
-// duals for normals, and dual intervals (ranges of f and of df/dt) for the solver.
+// duals for normals, and dual intervals (ranges of f and of df/dt) for the solver —
+// three loops of the same shape, as WGSL has no generics to write one (the CPU's
+// `bytecode::run` is one generic function).
 // Interval ends are widened outwards after every operation by the f32 rounding (and by
 // WGSL's stated accuracy for exp, sin and cos), so an enclosure holds every value the
 // exact function takes; only pruning gets less sharp.
