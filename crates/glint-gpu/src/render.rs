@@ -240,21 +240,22 @@ impl<'g> Progressive<'g> {
     ) -> Result<(), GpuRenderError> {
         let Some(settings) = self.adaptive.as_ref().map(|a| a.settings) else { return Ok(()) };
         let pixels = (self.scene.params.width * self.scene.params.height) as usize;
-        let start: Vec<[u32; 4]> = vec![[0, 0, 0, settings.min_samples]; pixels];
+        // At least one sample each, whatever the settings say.
+        let min = settings.min_samples.max(1);
+        let start: Vec<[u32; 4]> = vec![[0, 0, 0, min]; pixels];
         let state_at = self.accum.size() - 16 * pixels as u64;
         self.gpu.queue.write_buffer(&self.accum, state_at, bytemuck::cast_slice(&start));
         let mut params = self.scene.params;
-        (params.adaptive_min, params.adaptive_max) = (settings.min_samples.max(1), settings.max_samples);
+        (params.adaptive_min, params.adaptive_max) = (min, settings.max_samples.max(min));
         params.adaptive_threshold = settings.threshold;
-        let (mut taken, mut need) = (0, settings.min_samples.max(1));
+        let (mut taken, mut need) = (0, min);
         while need > 0 {
             if cancel.load(Ordering::Relaxed) {
                 return Err(GpuRenderError::Cancelled);
             }
             params.pass_samples = need.min(self.capacity);
             // Every pixel samples alike until they all reach the minimum.
-            params.adaptive_first =
-                (taken < settings.min_samples && taken + params.pass_samples >= settings.min_samples) as u32;
+            params.adaptive_first = (taken < min && taken + params.pass_samples >= min) as u32;
             taken += params.pass_samples;
             let tally_at = 4 * self.fault_words();
             self.gpu.queue.write_buffer(&self.faults, tally_at, bytemuck::cast_slice(&[0u32, 0]));
