@@ -100,6 +100,7 @@ impl State<'_> {
                     mean_metallic *= self.channel_means.get(&t).copied().unwrap_or(1.0);
                 }
             }
+            self.metallic_roughness_image = None;
         }
         let strength = material.emissive_strength().unwrap_or(1.0);
         let emission = Vec3::from(material.emissive_factor()) * strength;
@@ -160,6 +161,11 @@ impl State<'_> {
     /// for; a format glint does not decode is a warning.
     fn decode(&mut self, image: &gltf::Image, texels: Texels) -> Result<Option<TextureDesc>, SceneError> {
         let index = image.index();
+        if texels == Texels::MetallicFromBlue
+            && let Some((_, decoded)) = self.metallic_roughness_image.take_if(|(i, _)| *i == index)
+        {
+            return Ok(decoded);
+        }
         let fail = |message: String| super::mesh_error(self.path, 0, format!("image {index}: {message}"));
         let (bytes, file): (Cow<[u8]>, Cow<Path>) = match image.source() {
             gltf::image::Source::View { view, .. } => {
@@ -184,9 +190,17 @@ impl State<'_> {
             Texels::AlphaFromGreen | Texels::MetallicFromBlue | Texels::Data => Transfer::Identity,
         };
         match crate::texture_io::decode_image(&format!("image{index}"), &file, &bytes, transfer, false) {
-            Ok(desc) => Ok(Some(desc)),
+            Ok(desc) => {
+                if texels == Texels::AlphaFromGreen {
+                    self.metallic_roughness_image = Some((index, Some(desc.clone())));
+                }
+                Ok(Some(desc))
+            }
             Err(e @ crate::texture_io::TextureError::UnsupportedFormat { .. }) => {
                 self.warn(format!("image {index} is left out: {e}"));
+                if texels == Texels::AlphaFromGreen {
+                    self.metallic_roughness_image = Some((index, None));
+                }
                 Ok(None)
             }
             Err(e) => Err(fail(e.to_string())),

@@ -15,7 +15,7 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec2, Vec3};
-use glint_core::desc::{ImageSampling, MeshDesc};
+use glint_core::desc::{ImageSampling, MeshDesc, TextureDesc};
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::{Mode, Semantic};
 
@@ -62,6 +62,7 @@ pub fn parse(path: &Path, bytes: Vec<u8>) -> Result<MeshImport, SceneError> {
         materials: HashMap::new(),
         textures: HashMap::new(),
         channel_means: HashMap::new(),
+        metallic_roughness_image: None,
         skipped_modes: HashMap::new(),
     };
     let scene = doc.default_scene().or_else(|| doc.scenes().next());
@@ -282,6 +283,9 @@ struct State<'a> {
     /// Mean of each metallic texture (a metallic-roughness texture's blue channel), by
     /// its index in `import.textures`.
     channel_means: HashMap<usize, f32>,
+    /// A metallic-roughness image decoded for its green channel, by image index, kept
+    /// until its blue channel is taken from it, so the image is decoded once for both.
+    metallic_roughness_image: Option<(usize, Option<TextureDesc>)>,
     /// Primitives of each mode glint does not draw (points, lines).
     skipped_modes: HashMap<&'static str, usize>,
 }

@@ -335,6 +335,24 @@ fn a_normal_texture_is_a_normal_map_read_as_data() {
     assert!((texels[0] - Vec3::new(128.0, 128.0, 255.0) / 255.0).length() < 1e-6, "not sRGB-decoded: {}", texels[0]);
 }
 
+/// The metallic-roughness image serves two textures (roughness from green, metallic
+/// from blue) but is decoded once: an undecodable one is named in one warning.
+#[test]
+fn a_metallic_roughness_image_is_decoded_once_for_both_channels() {
+    let mut model = Model::default();
+    square(&mut model);
+    let ktx2 = base64(b"\xabKTX 20\xbb\r\n\x1a\n not decodable here");
+    let more = format!(
+        r#","materials":[{{"pbrMetallicRoughness":{{"metallicFactor":0.5,"metallicRoughnessTexture":{{"index":0}}}}}}],
+"textures":[{{"source":0}}],"images":[{{"uri":"data:image/ktx2;base64,{ktx2}"}}]"#
+    );
+    let import = read(model.document(&one_primitive(r#"{"attributes":{"POSITION":0},"material":0}"#, &more))).unwrap();
+    let warned = import.warnings.iter().filter(|w| w.contains("image 0 is left out")).count();
+    assert_eq!(warned, 1, "{:?}", import.warnings);
+    let Some(BsdfDesc::MetallicRoughness { metallic, alpha, .. }) = import.materials[0].bsdf else { panic!() };
+    assert_eq!((metallic.texture, alpha.texture), (None, None));
+}
+
 #[test]
 fn a_metallic_roughness_texture_gives_roughness_from_green_and_metallic_from_blue() {
     let import = with_texture(
