@@ -635,35 +635,24 @@ fn choose_gpu(
     };
     match device {
         DeviceArg::Cpu => Ok(None),
-        DeviceArg::Gpu => {
-            if let Some(what) = glint_gpu::upload::unsupported(scene) {
-                return Err(glint_gpu::GpuError::Unsupported(what).into());
-            }
-            Ok(Some(glint_gpu::Gpu::new()?))
-        }
-        DeviceArg::Auto => {
-            if let Some(what) = glint_gpu::upload::unsupported(scene) {
-                note(&format!("the GPU backend does not render {what} yet"));
-                return Ok(None);
-            }
-            match glint_gpu::Gpu::new() {
-                Ok(gpu) if gpu.is_hardware() => match glint_gpu::upload::beyond_adapter(&gpu, scene) {
-                    Some(why) => {
-                        note(&format!("the GPU adapter {} cannot: {why}", gpu.describe()));
-                        Ok(None)
-                    }
-                    None => Ok(Some(gpu)),
-                },
-                Ok(gpu) => {
-                    note(&format!("the only GPU adapter, {}, is a CPU driver", gpu.describe()));
+        DeviceArg::Gpu => Ok(Some(glint_gpu::Gpu::new()?)),
+        DeviceArg::Auto => match glint_gpu::Gpu::new() {
+            Ok(gpu) if gpu.is_hardware() => match glint_gpu::upload::beyond_adapter(&gpu, scene) {
+                Some(why) => {
+                    note(&format!("the GPU adapter {} cannot: {why}", gpu.describe()));
                     Ok(None)
                 }
-                Err(e) => {
-                    note(&e.to_string());
-                    Ok(None)
-                }
+                None => Ok(Some(gpu)),
+            },
+            Ok(gpu) => {
+                note(&format!("the only GPU adapter, {}, is a CPU driver", gpu.describe()));
+                Ok(None)
             }
-        }
+            Err(e) => {
+                note(&e.to_string());
+                Ok(None)
+            }
+        },
     }
 }
 

@@ -12,8 +12,6 @@ pub enum GpuError {
     NoAdapter,
     #[error("the GPU adapter '{adapter}' cannot run glint's kernels: {reason}")]
     Unsuitable { adapter: String, reason: String },
-    #[error("this scene cannot be rendered on the GPU yet: {0}; render it with --device cpu")]
-    Unsupported(String),
     #[error(
         "the scene's {what} take {needed} bytes in one buffer, over this adapter's limit \
          max_storage_buffer_binding_size = {limit} bytes; render it with --device cpu"

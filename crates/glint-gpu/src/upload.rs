@@ -40,7 +40,13 @@ pub(crate) struct SceneBuffers {
 /// `None` when it can: implicit surfaces and blobs need more loop iterations than a
 /// driver that caps them allows ([`Gpu::caps_loop_iterations`]).
 pub fn beyond_adapter(gpu: &Gpu, scene: &RenderScene) -> Option<String> {
-    let solved = scene.instances.iter().any(|i| matches!(i.shape.kind, ShapeKind::Implicit | ShapeKind::Blob));
+    let leaves = scene.shape_tables.csg_nodes.iter().filter(|n| n.op == CsgOp::Leaf).map(|n| n.shape.kind);
+    let solved = scene
+        .instances
+        .iter()
+        .map(|i| i.shape.kind)
+        .chain(leaves)
+        .any(|k| matches!(k, ShapeKind::Implicit | ShapeKind::Blob));
     (solved && gpu.caps_loop_iterations()).then(|| {
         format!(
             "its driver stops a kernel's loops after {} iterations in all, fewer than implicit surfaces and \
@@ -48,43 +54,6 @@ pub fn beyond_adapter(gpu: &Gpu, scene: &RenderScene) -> Option<String> {
             crate::device::LOOP_CAP
         )
     })
-}
-
-/// Solids the GPU intersects, alone or as CSG operands.
-fn gpu_solid(kind: ShapeKind) -> bool {
-    matches!(
-        kind,
-        ShapeKind::Sphere
-            | ShapeKind::Cube
-            | ShapeKind::Cylinder
-            | ShapeKind::Cone
-            | ShapeKind::Plane
-            | ShapeKind::Torus
-            | ShapeKind::Quadric
-    )
-}
-
-/// What the GPU backend cannot render yet, as a sentence; `None` when it can.
-pub fn unsupported(scene: &RenderScene) -> Option<String> {
-    let csg_nodes = &scene.shape_tables.csg_nodes;
-    if let Some(k) = csg_nodes.iter().filter(|n| n.op == CsgOp::Leaf).map(|n| n.shape.kind).find(|&k| !gpu_solid(k)) {
-        return Some(format!("CSG with {k:?} operands"));
-    }
-    let drawn = |k: ShapeKind| {
-        gpu_solid(k)
-            || matches!(
-                k,
-                ShapeKind::Disk
-                    | ShapeKind::Rectangle
-                    | ShapeKind::Mesh
-                    | ShapeKind::Csg
-                    | ShapeKind::Superellipsoid
-                    | ShapeKind::Implicit
-                    | ShapeKind::Blob
-            )
-    };
-    let kind = scene.instances.iter().map(|i| i.shape.kind).find(|&k| !drawn(k));
-    kind.map(|k| format!("{k:?} shapes"))
 }
 
 /// The flat arrays before upload.
@@ -112,9 +81,6 @@ impl Arrays {
 impl GpuScene {
     /// Uploads `scene`, or says why it cannot be rendered on this GPU.
     pub fn new(gpu: &Gpu, scene: &RenderScene) -> Result<GpuScene, GpuError> {
-        if let Some(what) = unsupported(scene) {
-            return Err(GpuError::Unsupported(what));
-        }
         let mut a = Arrays::default();
         a.nodes.extend_from_slice(bytemuck::cast_slice(&scene.bvh.nodes));
         let record = std::mem::size_of::<glint_core::accel::WideNode>();

@@ -1,5 +1,5 @@
 //! What the GPU cannot do is said in one sentence: a buffer over the adapter's limit
-//! names the limit, and a scene with a feature the GPU does not render names it.
+//! names the limit, and a driver that caps loops names the cap.
 
 mod common;
 
@@ -17,23 +17,36 @@ fn a_scene_over_the_buffer_limit_is_refused_naming_the_limit() {
     assert!(message.contains("max_storage_buffer_binding_size = 4096 bytes"), "{message}");
 }
 
+/// Every shape and solid the CPU has uploads, CSG of solved operands included; a
+/// driver that caps loops refuses implicit surfaces and blobs wherever they are, as
+/// instances or as CSG operands, and nothing else.
 #[test]
-fn features_the_gpu_lacks_are_named() {
-    let solid = "difference { material \"m\" superellipsoid { exponents [0.3 0.3] } sphere { scale 0.7 } }";
-    let source = format!("material \"m\" {{ bsdf diffuse {{ reflectance 0.5 }} }}\n{solid}\n");
-    let superellipsoid_csg = common::scene(&source, 8, 8, 1);
-    let why =
-        glint_gpu::upload::unsupported(&superellipsoid_csg).expect("CSG of superellipsoids is not on the GPU yet");
-    assert!(why.contains("CSG with Superellipsoid operands"), "{why}");
-    let blobs = common::scene_file("blobs.glint", 8, 8, 1);
-    assert_eq!(glint_gpu::upload::unsupported(&blobs), None, "blobs run on the GPU");
-    let csg = common::scene_file("csg.glint", 8, 8, 1);
-    assert_eq!(glint_gpu::upload::unsupported(&csg), None, "CSG of analytic solids runs on the GPU");
-    let mut adaptive_with_aovs = common::scene_file("soft-shadows.glint", 8, 8, 1);
-    adaptive_with_aovs.settings.aovs = true;
-    assert_eq!(glint_gpu::upload::unsupported(&adaptive_with_aovs), None, "adaptive sampling and AOVs run on the GPU");
-    let whitted = common::scene_file("default.glint", 8, 8, 1);
-    assert_eq!(glint_gpu::upload::unsupported(&whitted), None);
-    let path = common::scene_file("cornell-path.glint", 8, 8, 1);
-    assert_eq!(glint_gpu::upload::unsupported(&path), None);
+fn only_a_loop_capped_driver_refuses_a_scene_and_names_why() {
+    let Some(gpu) = common::gpu() else { return };
+    let capped = gpu.caps_loop_iterations();
+    let csg = |solid: &str| {
+        let source = format!(
+            "material \"m\" {{ bsdf diffuse {{ reflectance 0.5 }} }}\n\
+             difference {{ material \"m\" {solid} sphere {{ scale 0.7 }} }}\n"
+        );
+        common::scene(&source, 8, 8, 1)
+    };
+    let implicit = csg("implicit { function \"x^2 + y^2 + z^2 - 1\" bounds [-1.1 -1.1 -1.1] [1.1 1.1 1.1] }");
+    let blob = csg("blob { threshold 0.5 component sphere { radius 1 strength 1 } }");
+    for (what, scene) in [("implicit", &implicit), ("blob", &blob)] {
+        GpuScene::new(&gpu, scene).unwrap_or_else(|e| panic!("CSG of a {what} uploads: {e}"));
+        match glint_gpu::upload::beyond_adapter(&gpu, scene) {
+            Some(why) => assert!(capped && why.contains("65535 iterations"), "{what}: {why}"),
+            None => assert!(!capped, "a capped driver must refuse CSG of a {what}"),
+        }
+    }
+    let superellipsoid = csg("superellipsoid { exponents [0.3 0.3] }");
+    GpuScene::new(&gpu, &superellipsoid).expect("CSG of a superellipsoid uploads");
+    assert_eq!(glint_gpu::upload::beyond_adapter(&gpu, &superellipsoid), None);
+    for name in ["blobs.glint", "csg.glint", "default.glint", "cornell-path.glint"] {
+        let scene = common::scene_file(name, 8, 8, 1);
+        GpuScene::new(&gpu, &scene).unwrap_or_else(|e| panic!("{name} uploads: {e}"));
+        let refused = glint_gpu::upload::beyond_adapter(&gpu, &scene).is_some();
+        assert_eq!(refused, capped && name == "blobs.glint", "{name}");
+    }
 }

@@ -114,16 +114,16 @@ fn choose_gpu(device: Device, viewer: &Viewer) -> Result<Option<&'static glint_g
     if device == Device::Cpu {
         return Ok(None);
     }
-    let unsupported = {
-        let scene = viewer.scene().lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-        glint_gpu::upload::unsupported(&scene)
-    };
-    let chosen = match (device, unsupported) {
-        (Device::Gpu, Some(what)) => return Err(glint_gpu::GpuError::Unsupported(what).to_string()),
-        (Device::Gpu, None) => Ok(glint_gpu::Gpu::new().map_err(|e| e.to_string())?),
-        (_, Some(what)) => Err(format!("the GPU backend does not render {what} yet")),
-        (_, None) => match glint_gpu::Gpu::new() {
-            Ok(gpu) if gpu.is_hardware() => Ok(gpu),
+    let chosen = match device {
+        Device::Gpu => Ok(glint_gpu::Gpu::new().map_err(|e| e.to_string())?),
+        _ => match glint_gpu::Gpu::new() {
+            Ok(gpu) if gpu.is_hardware() => {
+                let scene = viewer.scene().lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+                match glint_gpu::upload::beyond_adapter(&gpu, &scene) {
+                    Some(why) => Err(format!("the GPU adapter {} cannot: {why}", gpu.describe())),
+                    None => Ok(gpu),
+                }
+            }
             Ok(gpu) => Err(format!("the only GPU adapter, {}, is a CPU driver", gpu.describe())),
             Err(e) => Err(e.to_string()),
         },

@@ -155,6 +155,21 @@ fn leaf_spans(kind: u32, param: f32, r: Ray) -> SpanList {
                 out = quadric_spans(bitcast<u32>(param), r);
             }
         }
+        case 12u: {
+            if SOLVED_SHAPES {
+                out = superellipsoid_spans(bitcast<u32>(param), r);
+            }
+        }
+        case 10u: {
+            if SOLVED_SHAPES {
+                out = implicit_spans(bitcast<u32>(param), r);
+            }
+        }
+        case 9u: {
+            if SOLVED_SHAPES {
+                out = blob_spans(bitcast<u32>(param), r);
+            }
+        }
         default: {}
     }
     return out;
@@ -335,6 +350,12 @@ fn csg_surface(r: Ray, hit: ShapeHit) -> SurfacePoint {
         s = quadric_surface(bitcast<u32>(node.param), local, leaf_hit);
     } else if TORI && node.kind == KIND_TORUS {
         s = torus_surface(node.param, local, leaf_hit);
+    } else if SOLVED_SHAPES && node.kind == KIND_SUPERELLIPSOID {
+        s = superellipsoid_surface(bitcast<u32>(node.param), local, leaf_hit);
+    } else if SOLVED_SHAPES && node.kind == KIND_IMPLICIT {
+        s = implicit_surface(bitcast<u32>(node.param), local, leaf_hit);
+    } else if SOLVED_SHAPES && node.kind == KIND_BLOB {
+        s = blob_surface(bitcast<u32>(node.param), local, leaf_hit);
     } else {
         s = analytic_surface(node.kind, local, leaf_hit);
     }

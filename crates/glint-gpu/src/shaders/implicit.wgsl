@@ -109,11 +109,37 @@ fn refine_crossing(f: RayFunction, a_in: f32, b_in: f32, fa_in: f32, fb_in: f32)
     return select(b, a, abs(fa) <= abs(fb));
 }
 
-// The first sign change of f in [t0, t1] after t_min and before t_max, as a hit.
+// What `solve` found: the first crossing after t = 0, or, for CSG, every crossing
+// paired into spans (glint_core::shape::span::pair_crossings) — an entering crossing
+// opens a span, the next leaving one closes it, and a span still open at the end is
+// left for the caller to close.
+struct Crossings {
+    first: ShapeHit,
+    spans: SpanList,
+    open: bool,
+    open_t: f32,
+    open_part: u32,
+}
+
+// The first sign change of f in [t0, t1] after t = 0, as a hit.
 fn solve_first(f: RayFunction, t0: f32, t1: f32) -> ShapeHit {
-    var hit = no_hit();
+    return solve(f, t0, t1, false, false, 0.0, 0u).first;
+}
+
+// Every crossing of f in [t0, t1] paired into spans of surface part 0; `starts_inside`
+// opens a span at t0 with part `part0` (a box face where f is negative on the box).
+fn solve_spans(f: RayFunction, t0: f32, t1: f32, starts_inside: bool, part0: u32) -> Crossings {
+    return solve(f, t0, t1, true, starts_inside, t0, part0);
+}
+
+// glint_core::shape::implicit::solve::crossings, nearest first: all of them (`all`) or
+// up to the first after t = 0.
+fn solve(f: RayFunction, t0: f32, t1: f32, all: bool, starts_inside: bool, open_t: f32, open_part: u32) -> Crossings {
+    var c = Crossings(no_hit(), span_list(), starts_inside, open_t, open_part);
+    // Pushed through a local: naga's SPIR-V writer fails on a pointer into `c`.
+    var spans: SpanList;
     if !(finite(t0) && finite(t1)) || t0 >= t1 {
-        return hit;
+        return c;
     }
     let resolution = max((t1 - t0) * (1.0 / 16777216.0), 8.0 * F32_EPSILON * max(abs(t0), abs(t1)));
     var lo: array<f32, 26>;
@@ -128,7 +154,7 @@ fn solve_first(f: RayFunction, t0: f32, t1: f32) -> ShapeHit {
     level[0] = 0u;
     var top = 1u;
     var budget = SOLVE_BUDGET;
-    while top > 0u && !hit.found {
+    while top > 0u && !c.first.found {
         top -= 1u;
         let a = lo[top];
         let b = hi[top];
@@ -161,13 +187,24 @@ fn solve_first(f: RayFunction, t0: f32, t1: f32) -> ShapeHit {
             top += 2u;
         } else if !pruned && inside(fa) != inside(fb) {
             let t = refine_crossing(f, a, b, fa, fb);
-            if t > 0.0 {
-                hit.found = true;
-                hit.t = t;
+            if !all {
+                c.first.found = t > 0.0;
+                c.first.t = t;
+            } else if inside(fb) {
+                c.open = true;
+                c.open_t = t;
+                c.open_part = 0u;
+            } else {
+                if c.open && c.open_t < t {
+                    spans = c.spans;
+                    push_span(&spans, Span(c.open_t, c.open_part, t, 0u));
+                    c.spans = spans;
+                }
+                c.open = false;
             }
         }
     }
-    return hit;
+    return c;
 }
 
 // ---- the superellipsoid (glint_core::shape::superellipsoid) ----
@@ -243,6 +280,16 @@ fn intersect_superellipsoid(index: u32, r: Ray, t_max: f32) -> ShapeHit {
     var hit = solve_first(f, max(b.span.enter, 0.0), min(b.span.exit, t_max));
     hit.found = hit.found && hit.t < t_max;
     return hit;
+}
+
+// Its spans along the whole line (Solid::spans): every crossing inside its box.
+fn superellipsoid_spans(index: u32, r: Ray) -> SpanList {
+    let b = box_span(r, vec3<f32>(-1.0 - SUPERELLIPSOID_MARGIN), vec3<f32>(1.0 + SUPERELLIPSOID_MARGIN));
+    if !b.found {
+        return span_list();
+    }
+    let f = RayFunction(KIND_SUPERELLIPSOID, index, r.origin, r.dir);
+    return solve_spans(f, b.span.enter, b.span.exit, false, 0u).spans;
 }
 
 // ∇g, pointing out of the solid; the point itself where the gradient vanishes.
@@ -774,6 +821,25 @@ fn intersect_implicit(index: u32, r: Ray, t_max: f32) -> ShapeHit {
     return hit;
 }
 
+// Its spans along the whole line: every crossing inside its box, where a box face on
+// which f is negative bounds the solid (glint_core's ImplicitShape::spans).
+fn implicit_spans(index: u32, r: Ray) -> SpanList {
+    let rec = implicit_record(index);
+    let b = box_span(r, rec.lo, rec.hi);
+    if !b.found {
+        return span_list();
+    }
+    let f = RayFunction(KIND_IMPLICIT, index, r.origin, r.dir);
+    let enter = b.span.enter;
+    let exit = b.span.exit;
+    let c = solve_spans(f, enter, exit, inside(rf_value(f, enter)), b.span.enter_part);
+    var spans = c.spans;
+    if c.open && c.open_t < exit {
+        push_span(&spans, Span(c.open_t, c.open_part, exit, b.span.exit_part));
+    }
+    return spans;
+}
+
 // The hit point moved onto the surface by one Newton step (refused when it is not
 // small against the box), and the gradient there as the normal.
 fn implicit_surface(index: u32, r: Ray, hit: ShapeHit) -> SurfacePoint {
@@ -934,6 +1000,18 @@ fn intersect_blob(index: u32, r: Ray, t_max: f32) -> ShapeHit {
         hit.found = hit.found && hit.t < t_max;
     }
     return hit;
+}
+
+// Its spans along the whole line: every crossing inside its box, which holds the
+// field's support.
+fn blob_spans(index: u32, r: Ray) -> SpanList {
+    let blob = blob_record(index);
+    let b = box_span(r, blob.lo, blob.hi);
+    if !b.found {
+        return span_list();
+    }
+    let f = RayFunction(KIND_BLOB, index, r.origin, r.dir);
+    return solve_spans(f, b.span.enter, b.span.exit, false, 0u).spans;
 }
 
 // One Newton step back onto the surface, then the outward normal −∇ Σ fields.
