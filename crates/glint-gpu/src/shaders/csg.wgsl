@@ -155,22 +155,11 @@ fn leaf_spans(kind: u32, param: f32, r: Ray) -> SpanList {
                 out = quadric_spans(bitcast<u32>(param), r);
             }
         }
-        case 12u: {
-            if SOLVED_SHAPES {
-                out = superellipsoid_spans(bitcast<u32>(param), r);
+        default: {
+            if SOLVED_SHAPES && (kind == KIND_SUPERELLIPSOID || kind == KIND_IMPLICIT || kind == KIND_BLOB) {
+                out = solved_spans(kind, bitcast<u32>(param), r);
             }
         }
-        case 10u: {
-            if SOLVED_SHAPES {
-                out = implicit_spans(bitcast<u32>(param), r);
-            }
-        }
-        case 9u: {
-            if SOLVED_SHAPES {
-                out = blob_spans(bitcast<u32>(param), r);
-            }
-        }
-        default: {}
     }
     return out;
 }
@@ -352,9 +341,9 @@ fn csg_surface(r: Ray, hit: ShapeHit) -> SurfacePoint {
         s = torus_surface(node.param, local, leaf_hit);
     } else if SOLVED_SHAPES && node.kind == KIND_SUPERELLIPSOID {
         s = superellipsoid_surface(bitcast<u32>(node.param), local, leaf_hit);
-    } else if SOLVED_SHAPES && node.kind == KIND_IMPLICIT {
+    } else if IMPLICITS && node.kind == KIND_IMPLICIT {
         s = implicit_surface(bitcast<u32>(node.param), local, leaf_hit);
-    } else if SOLVED_SHAPES && node.kind == KIND_BLOB {
+    } else if BLOBS && node.kind == KIND_BLOB {
         s = blob_surface(bitcast<u32>(node.param), local, leaf_hit);
     } else {
         s = analytic_surface(node.kind, local, leaf_hit);

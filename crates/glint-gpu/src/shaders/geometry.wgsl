@@ -655,16 +655,8 @@ fn intersect_instance(index: u32, r: Ray, t_max: f32, any_hit: bool) -> ShapeHit
     if CSG_SHAPES && inst.kind == KIND_CSG {
         return intersect_csg(bitcast<u32>(inst.param), local, t_max);
     }
-    if SOLVED_SHAPES {
-        if inst.kind == KIND_SUPERELLIPSOID {
-            return intersect_superellipsoid(bitcast<u32>(inst.param), local, t_max);
-        }
-        if inst.kind == KIND_IMPLICIT {
-            return intersect_implicit(bitcast<u32>(inst.param), local, t_max);
-        }
-        if inst.kind == KIND_BLOB {
-            return intersect_blob(bitcast<u32>(inst.param), local, t_max);
-        }
+    if SOLVED_SHAPES && (inst.kind == KIND_SUPERELLIPSOID || inst.kind == KIND_IMPLICIT || inst.kind == KIND_BLOB) {
+        return intersect_solved(inst.kind, bitcast<u32>(inst.param), local, t_max);
     }
     return intersect_analytic(inst.kind, local, t_max);
 }
@@ -827,9 +819,9 @@ fn hit_from(r: Ray, found: SceneHit) -> Hit {
             hit.material = csg_material(h.part);
         } else if SOLVED_SHAPES && inst.kind == KIND_SUPERELLIPSOID {
             s = superellipsoid_surface(bitcast<u32>(inst.param), local, h);
-        } else if SOLVED_SHAPES && inst.kind == KIND_IMPLICIT {
+        } else if IMPLICITS && inst.kind == KIND_IMPLICIT {
             s = implicit_surface(bitcast<u32>(inst.param), local, h);
-        } else if SOLVED_SHAPES && inst.kind == KIND_BLOB {
+        } else if BLOBS && inst.kind == KIND_BLOB {
             s = blob_surface(bitcast<u32>(inst.param), local, h);
         } else {
             s = analytic_surface(inst.kind, local, h);

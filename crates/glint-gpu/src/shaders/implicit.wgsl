@@ -12,6 +12,11 @@
 // with every lane masked off, and each loop so passed counts towards its cap of
 // 65 535 loop iterations per invocation (`Gpu::caps_loop_iterations`).
 override SOLVED_SHAPES: bool = true;
+// Which of them it has: the solver is one function for the three (a copy per shape
+// multiplied lavapipe's compile time), and these keep the others' code, loops
+// included, out of its every step.
+override IMPLICITS: bool = true;
+override BLOBS: bool = true;
 // The same for the other shapes whose code holds loops (render.rs `specialization`).
 override MESHES: bool = true;
 override QUADRICS: bool = true;
@@ -36,20 +41,20 @@ struct Enclosure {
 
 fn rf_value(f: RayFunction, t: f32) -> f32 {
     let p = f.o + t * f.d;
-    if f.kind == KIND_IMPLICIT {
+    if IMPLICITS && f.kind == KIND_IMPLICIT {
         return implicit_value(implicit_record(f.index), p);
     }
-    if f.kind == KIND_BLOB {
+    if BLOBS && f.kind == KIND_BLOB {
         return blob_value(blob_record(f.index), p);
     }
     return superellipsoid_value(f.index, abs(p));
 }
 
 fn rf_enclose(f: RayFunction, a: f32, b: f32) -> Enclosure {
-    if f.kind == KIND_IMPLICIT {
+    if IMPLICITS && f.kind == KIND_IMPLICIT {
         return implicit_enclosure(f, a, b);
     }
-    if f.kind == KIND_BLOB {
+    if BLOBS && f.kind == KIND_BLOB {
         return blob_enclosure(f, a, b);
     }
     return superellipsoid_enclose(f, a, b);
@@ -207,6 +212,75 @@ fn solve(f: RayFunction, t0: f32, t1: f32, all: bool, starts_inside: bool, open_
     return c;
 }
 
+// The box a solved shape is searched in: an implicit surface's and a blob's own, the
+// superellipsoid's [−1, 1]³ with a margin.
+struct SolvedBox {
+    lo: vec3<f32>,
+    hi: vec3<f32>,
+}
+
+fn solved_box(kind: u32, index: u32) -> SolvedBox {
+    if IMPLICITS && kind == KIND_IMPLICIT {
+        let rec = implicit_record(index);
+        return SolvedBox(rec.lo, rec.hi);
+    }
+    if BLOBS && kind == KIND_BLOB {
+        let blob = blob_record(index);
+        return SolvedBox(blob.lo, blob.hi);
+    }
+    return SolvedBox(vec3<f32>(-1.0 - SUPERELLIPSOID_MARGIN), vec3<f32>(1.0 + SUPERELLIPSOID_MARGIN));
+}
+
+// The nearest hit on a superellipsoid, implicit surface or blob. One function for the
+// three, so a kernel holds one copy of the solver: Mesa inlines every call, and a
+// copy per shape multiplied lavapipe's compile time (IMPLICITS and BLOBS above keep
+// it as lean as one shape's where the scene has one kind). An implicit surface whose
+// function is negative on its box's faces is bounded by them (glint_core's
+// ImplicitShape::intersect).
+fn intersect_solved(kind: u32, index: u32, r: Ray, t_max: f32) -> ShapeHit {
+    let bx = solved_box(kind, index);
+    let b = box_span(r, bx.lo, bx.hi);
+    if !b.found {
+        return no_hit();
+    }
+    let f = RayFunction(kind, index, r.origin, r.dir);
+    let faces = IMPLICITS && kind == KIND_IMPLICIT;
+    let enter = b.span.enter;
+    let exit = b.span.exit;
+    if faces && enter > 0.0 && enter < t_max && inside(rf_value(f, enter)) {
+        // Entering the box where f is negative: the box face is the surface.
+        return ShapeHit(true, enter, b.span.enter_part, vec3<f32>(0.0));
+    }
+    var hit = solve_first(f, max(enter, 0.0), min(exit, t_max));
+    hit.found = hit.found && hit.t < t_max;
+    if faces && !hit.found && exit > 0.0 && exit < t_max && inside(rf_value(f, exit)) {
+        // Started inside and found no surface before the box: leave through its face.
+        hit = ShapeHit(true, exit, b.span.exit_part, vec3<f32>(0.0));
+    }
+    return hit;
+}
+
+// A solved shape's spans along the whole line (Solid::spans), for CSG: every crossing
+// inside its box, and for an implicit surface the box faces where its function is
+// negative there, as on the CPU. One function for the three, as above.
+fn solved_spans(kind: u32, index: u32, r: Ray) -> SpanList {
+    let bx = solved_box(kind, index);
+    let b = box_span(r, bx.lo, bx.hi);
+    if !b.found {
+        return span_list();
+    }
+    let f = RayFunction(kind, index, r.origin, r.dir);
+    let faces = IMPLICITS && kind == KIND_IMPLICIT;
+    let enter = b.span.enter;
+    let exit = b.span.exit;
+    let c = solve_spans(f, enter, exit, faces && inside(rf_value(f, enter)), b.span.enter_part);
+    var spans = c.spans;
+    if faces && c.open && c.open_t < exit {
+        push_span(&spans, Span(c.open_t, c.open_part, exit, b.span.exit_part));
+    }
+    return spans;
+}
+
 // ---- the superellipsoid (glint_core::shape::superellipsoid) ----
 
 // g = (|x|^(2/e2) + |z|^(2/e2))^(e2/e1) + |y|^(2/e1), inside g ≤ 1, within [−1, 1]³;
@@ -269,27 +343,6 @@ fn superellipsoid_enclose(f: RayFunction, a: f32, b: f32) -> Enclosure {
         slope = -1;
     }
     return Enclosure(v_lo - slack, v_hi + slack, slope);
-}
-
-fn intersect_superellipsoid(index: u32, r: Ray, t_max: f32) -> ShapeHit {
-    let b = box_span(r, vec3<f32>(-1.0 - SUPERELLIPSOID_MARGIN), vec3<f32>(1.0 + SUPERELLIPSOID_MARGIN));
-    if !b.found {
-        return no_hit();
-    }
-    let f = RayFunction(KIND_SUPERELLIPSOID, index, r.origin, r.dir);
-    var hit = solve_first(f, max(b.span.enter, 0.0), min(b.span.exit, t_max));
-    hit.found = hit.found && hit.t < t_max;
-    return hit;
-}
-
-// Its spans along the whole line (Solid::spans): every crossing inside its box.
-fn superellipsoid_spans(index: u32, r: Ray) -> SpanList {
-    let b = box_span(r, vec3<f32>(-1.0 - SUPERELLIPSOID_MARGIN), vec3<f32>(1.0 + SUPERELLIPSOID_MARGIN));
-    if !b.found {
-        return span_list();
-    }
-    let f = RayFunction(KIND_SUPERELLIPSOID, index, r.origin, r.dir);
-    return solve_spans(f, b.span.enter, b.span.exit, false, 0u).spans;
 }
 
 // ∇g, pointing out of the solid; the point itself where the gradient vanishes.
@@ -798,48 +851,6 @@ fn implicit_enclosure(f: RayFunction, a: f32, b: f32) -> Enclosure {
     return Enclosure(v.x, v.y, slope);
 }
 
-fn intersect_implicit(index: u32, r: Ray, t_max: f32) -> ShapeHit {
-    let rec = implicit_record(index);
-    let b = box_span(r, rec.lo, rec.hi);
-    var hit = no_hit();
-    if b.found {
-        let f = RayFunction(KIND_IMPLICIT, index, r.origin, r.dir);
-        let enter = b.span.enter;
-        let exit = b.span.exit;
-        if enter > 0.0 && enter < t_max && inside(rf_value(f, enter)) {
-            // Entering the box where f is negative: the box face is the surface.
-            hit = ShapeHit(true, enter, b.span.enter_part, vec3<f32>(0.0));
-        } else {
-            hit = solve_first(f, max(enter, 0.0), min(exit, t_max));
-            hit.found = hit.found && hit.t < t_max;
-            if !hit.found && exit > 0.0 && exit < t_max && inside(rf_value(f, exit)) {
-                // Started inside and found no surface before the box: leave through its face.
-                hit = ShapeHit(true, exit, b.span.exit_part, vec3<f32>(0.0));
-            }
-        }
-    }
-    return hit;
-}
-
-// Its spans along the whole line: every crossing inside its box, where a box face on
-// which f is negative bounds the solid (glint_core's ImplicitShape::spans).
-fn implicit_spans(index: u32, r: Ray) -> SpanList {
-    let rec = implicit_record(index);
-    let b = box_span(r, rec.lo, rec.hi);
-    if !b.found {
-        return span_list();
-    }
-    let f = RayFunction(KIND_IMPLICIT, index, r.origin, r.dir);
-    let enter = b.span.enter;
-    let exit = b.span.exit;
-    let c = solve_spans(f, enter, exit, inside(rf_value(f, enter)), b.span.enter_part);
-    var spans = c.spans;
-    if c.open && c.open_t < exit {
-        push_span(&spans, Span(c.open_t, c.open_part, exit, b.span.exit_part));
-    }
-    return spans;
-}
-
 // The hit point moved onto the surface by one Newton step (refused when it is not
 // small against the box), and the gradient there as the normal.
 fn implicit_surface(index: u32, r: Ray, hit: ShapeHit) -> SurfacePoint {
@@ -988,30 +999,6 @@ fn blob_enclosure(f: RayFunction, a: f32, b: f32) -> Enclosure {
         sign = -1;
     }
     return Enclosure(v.x, v.y, sign);
-}
-
-fn intersect_blob(index: u32, r: Ray, t_max: f32) -> ShapeHit {
-    let blob = blob_record(index);
-    let b = box_span(r, blob.lo, blob.hi);
-    var hit = no_hit();
-    if b.found {
-        let f = RayFunction(KIND_BLOB, index, r.origin, r.dir);
-        hit = solve_first(f, max(b.span.enter, 0.0), min(b.span.exit, t_max));
-        hit.found = hit.found && hit.t < t_max;
-    }
-    return hit;
-}
-
-// Its spans along the whole line: every crossing inside its box, which holds the
-// field's support.
-fn blob_spans(index: u32, r: Ray) -> SpanList {
-    let blob = blob_record(index);
-    let b = box_span(r, blob.lo, blob.hi);
-    if !b.found {
-        return span_list();
-    }
-    let f = RayFunction(KIND_BLOB, index, r.origin, r.dir);
-    return solve_spans(f, b.span.enter, b.span.exit, false, 0u).spans;
 }
 
 // One Newton step back onto the surface, then the outward normal −∇ Σ fields.
