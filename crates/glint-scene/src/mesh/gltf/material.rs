@@ -228,9 +228,12 @@ fn sampling_of(sampler: &gltf::texture::Sampler) -> ImageSampling {
 }
 
 /// Replaces every texel of a decoded image by `value(texel)` in all three channels (so a
-/// [`ScalarParam`] reads it as is) and returns the mean of the new values.
+/// [`ScalarParam`] reads it as is) and returns the mean of the new values. The texels
+/// are no longer the file's, so the texture keeps no path (as the pbrt reader does with
+/// scaled ones): a writer such as `glint convert` then cannot name the file for them.
 fn spread_channel(desc: &mut TextureDesc, value: impl Fn(Vec3) -> f32) -> f32 {
-    let TextureDesc::Image { texels, .. } = desc else { return 1.0 };
+    let TextureDesc::Image { texels, path, .. } = desc else { return 1.0 };
+    path.clear();
     let mut sum = 0.0f64;
     for t in texels.iter_mut() {
         let v = value(*t);
