@@ -57,9 +57,8 @@ pub struct ViewArgs {
     #[arg(long)]
     pub no_hud: bool,
     /// Where the one-sample passes run, as for `glint render`: `gpu` (an error when
-    /// there is no GPU adapter or the scene has something the GPU does not render yet),
-    /// `auto` (a hardware GPU if there is one and the scene allows, else the CPU,
-    /// saying why) or `cpu`. Previews, debug views and explanations run on the CPU.
+    /// there is no GPU adapter), `auto` (a hardware GPU if there is one whose driver can
+    /// run the scene, else the CPU, saying why) or `cpu`. Previews, debug views and explanations run on the CPU.
     #[arg(long, value_enum, default_value_t = Device::Cpu)]
     pub device: Device,
     /// Without a window: measure passes per second and the latency from an input to

@@ -29,8 +29,8 @@ impl Runner {
     }
 
     /// Runs `job`; `None` when it was cancelled. A sample pass the GPU cannot run (a
-    /// scene with something it does not render yet, a device error) runs on the CPU
-    /// and says why in the result's note.
+    /// reloaded scene its driver cannot run, a device error) runs on the CPU and says
+    /// why in the result's note.
     pub fn run(&mut self, job: &Job) -> Option<Finished> {
         let (PassKind::Sample(index), Some(gpu)) = (job.kind, self.gpu.as_mut()) else {
             return run(job);
