@@ -356,9 +356,8 @@ fn film_stride_of(params: &crate::records::Params) -> usize {
 /// The pipeline-overridable constants that leave out of a scene's kernels the code of
 /// what it does not have (see implicit.wgsl's `SOLVED_SHAPES`).
 fn specialization(scene: &RenderScene) -> [(&'static str, f64); 7] {
-    use glint_core::shape::{CsgOp, ShapeKind};
-    let leaves = scene.shape_tables.csg_nodes.iter().filter(|n| n.op == CsgOp::Leaf).map(|n| n.shape.kind);
-    let kinds: Vec<ShapeKind> = scene.instances.iter().map(|i| i.shape.kind).chain(leaves).collect();
+    use glint_core::shape::ShapeKind;
+    let kinds: Vec<ShapeKind> = crate::upload::shape_kinds(scene).collect();
     let has = |wanted: &[ShapeKind]| f64::from(u8::from(kinds.iter().any(|k| wanted.contains(k))));
     [
         ("SOLVED_SHAPES", has(&[ShapeKind::Superellipsoid, ShapeKind::Implicit, ShapeKind::Blob])),

@@ -40,13 +40,7 @@ pub(crate) struct SceneBuffers {
 /// `None` when it can: implicit surfaces and blobs need more loop iterations than a
 /// driver that caps them allows ([`Gpu::caps_loop_iterations`]).
 pub fn beyond_adapter(gpu: &Gpu, scene: &RenderScene) -> Option<String> {
-    let leaves = scene.shape_tables.csg_nodes.iter().filter(|n| n.op == CsgOp::Leaf).map(|n| n.shape.kind);
-    let solved = scene
-        .instances
-        .iter()
-        .map(|i| i.shape.kind)
-        .chain(leaves)
-        .any(|k| matches!(k, ShapeKind::Implicit | ShapeKind::Blob));
+    let solved = shape_kinds(scene).any(|k| matches!(k, ShapeKind::Implicit | ShapeKind::Blob));
     (solved && gpu.caps_loop_iterations()).then(|| {
         format!(
             "its driver stops a kernel's loops after {} iterations in all, fewer than implicit surfaces and \
@@ -54,6 +48,12 @@ pub fn beyond_adapter(gpu: &Gpu, scene: &RenderScene) -> Option<String> {
             crate::device::LOOP_CAP
         )
     })
+}
+
+/// The kind of every shape the kernels may meet: each instance's and each CSG leaf's.
+pub(crate) fn shape_kinds(scene: &RenderScene) -> impl Iterator<Item = ShapeKind> + '_ {
+    let leaves = scene.shape_tables.csg_nodes.iter().filter(|n| n.op == CsgOp::Leaf).map(|n| n.shape.kind);
+    scene.instances.iter().map(|i| i.shape.kind).chain(leaves)
 }
 
 /// The flat arrays before upload.
