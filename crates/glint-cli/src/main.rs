@@ -526,8 +526,9 @@ fn render_scene_to(args: &RenderArgs, mut desc: SceneDesc, output: &Path, cancel
         return Err(e.into());
     }
     let (image, stats) = result.map_err(|RenderError::Cancelled| Failure::Cancelled)?;
-    let seconds = start.elapsed().as_secs_f64();
+    let traced = start.elapsed().as_secs_f64();
     write_outputs(args, (output, format, transfer), &image, &stats)?;
+    let seconds = start.elapsed().as_secs_f64();
     if let Some(checkpointer) = &checkpointer {
         checkpointer.remove();
     }
@@ -536,12 +537,13 @@ fn render_scene_to(args: &RenderArgs, mut desc: SceneDesc, output: &Path, cancel
         let (w, h) = (scene.settings.width, scene.settings.height);
         let mean_spp = stats.samples_per_pixel.iter().map(|&c| c as f64).sum::<f64>() / (w as f64 * h as f64);
         eprintln!(
-            "wrote {} ({w}x{h}, {:.1} spp) in {seconds:.2} s on {} threads: {} rays, {:.2} Mrays/s{}",
+            "wrote {} ({w}x{h}, {:.1} spp) in {seconds:.2} s (traced in {traced:.3} s) on {} threads: {} rays, \
+             {:.2} Mrays/s{}",
             output.display(),
             mean_spp,
             pool.current_num_threads(),
             stats.rays,
-            stats.rays as f64 / seconds / 1e6,
+            stats.rays as f64 / traced / 1e6,
             peak_memory().map(|m| format!(", peak memory {m}")).unwrap_or_default(),
         );
     }

@@ -380,6 +380,27 @@ pub struct MaterialDesc {
     /// only, not by light sampling: exact, but noisier as lights.
     #[serde(default)]
     pub emission_texture: Option<usize>,
+    /// The Whitted highlight's shape: the lecture's Phong `(r·v)^n` or Blinn's
+    /// `(n·h)^n`, which POV-Ray and OpenGL use; scenes ported from them need Blinn to
+    /// keep their highlights' size.
+    #[serde(default)]
+    pub highlight: Highlight,
+    /// Whether the texture colours the ambient term as it colours the diffuse one
+    /// (POV-Ray's ambient follows the pigment). Off, `O_a` stays untextured, as in the
+    /// lecture, which keeps older scenes' images.
+    #[serde(default)]
+    pub textured_ambient: bool,
+}
+
+/// The Whitted model's specular highlight, per material.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Highlight {
+    /// The lecture's `(r·v)^n`, `r` the light mirrored about the normal.
+    #[default]
+    Phong,
+    /// `(n·h)^n` with the half vector `h = (l + v)/|l + v|`: a wider highlight for the
+    /// same `n` (about four times Phong's exponent gives the same size head-on).
+    Blinn,
 }
 
 /// A normal map: texture [`SceneDesc::textures`]`[texture]`, stored linearly (not
@@ -420,6 +441,8 @@ impl Default for MaterialDesc {
             casts_shadows: true,
             normal_map: None,
             emission_texture: None,
+            highlight: Highlight::Phong,
+            textured_ambient: false,
         }
     }
 }

@@ -222,6 +222,48 @@ fn textures_blend_into_the_diffuse_colour() {
     assert_close(pixel(&desc), 0.75 * Vec3::new(1.0, 0.0, 0.0) + 0.25 * Vec3::new(0.0, 1.0, 0.0));
 }
 
+#[test]
+fn textured_ambient_follows_the_texture_as_the_diffuse_does() {
+    let material = MaterialDesc {
+        ka: 0.5,
+        diffuse: Vec3::new(1.0, 0.0, 0.0),
+        texture: Some(0),
+        blend: 0.25,
+        textured_ambient: true,
+        ..black()
+    };
+    let mut desc = facing_plane(material, vec![], Vec3::new(1.0, 0.5, 1.0), Vec3::ZERO);
+    desc.textures.push(TextureDesc::Checker {
+        name: "c".into(),
+        even: Vec3::new(0.0, 1.0, 0.0),
+        odd: Vec3::ZERO,
+        cells: Vec2::ONE,
+    });
+    // L_a·k_a·((1 − b)·O_a + b·T), O_a being O_d, at the "even" cell.
+    let textured = 0.5 * (0.75 * Vec3::new(1.0, 0.0, 0.0) + 0.25 * Vec3::new(0.0, 1.0, 0.0));
+    assert_close(pixel(&desc), Vec3::new(1.0, 0.5, 1.0) * textured);
+    // The lecture's ambient ignores the texture.
+    desc.materials[0].textured_ambient = false;
+    assert_close(pixel(&desc), Vec3::new(0.5, 0.0, 0.0));
+}
+
+#[test]
+fn specular_term_alone_is_blinn_where_asked() {
+    // Viewer on the normal, light at θ: the half vector is θ/2 off the normal, so the
+    // highlight is cos(θ/2)^n, where Phong's would be cos(θ)^n.
+    for (degrees, n) in [(0.0f32, 10.0f32), (30.0, 2.0), (60.0, 8.0)] {
+        let m = MaterialDesc {
+            specular: Vec3::new(1.0, 0.5, 0.25),
+            shininess: n,
+            highlight: Highlight::Blinn,
+            ambient: Some(Vec3::ZERO),
+            ..black()
+        };
+        let got = pixel(&facing_plane(m, vec![light_at(degrees)], Vec3::ZERO, Vec3::ZERO));
+        assert_close(got, Vec3::new(1.0, 0.5, 0.25) * (degrees / 2.0).to_radians().cos().powf(n));
+    }
+}
+
 /// A lone mirror or glass sphere (no highlight, no local shading) against a plain
 /// background, at `scale` and far from the origin. Every pixel of the mirror is exactly
 /// `O_r·B` and every pixel of the glass `O_t²·B` (a ray through a sphere never meets

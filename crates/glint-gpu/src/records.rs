@@ -119,6 +119,9 @@ gpu_record!(pub MATERIAL = Material as "Material" {
     texture_repeat: Vec2 => texture_repeat,
     normal_texture: U32 => normal_texture,
     normal_scale: F32 => normal_scale,
+    ka: F32 => ka,
+    ambient_blend: F32 => ambient_blend,
+    highlight: U32 => highlight,
 });
 
 // `kind` is a `#[repr(u32)]` enum: one word, read as the discriminant.

@@ -93,6 +93,7 @@ pub fn constants() -> String {
         ("LIGHT_DISK", LightKind::Disk as u32),
         ("LIGHT_SPHERE", LightKind::Sphere as u32),
         ("NO_TEXTURE", glint_core::material::NO_TEXTURE),
+        ("BLINN_HIGHLIGHT", glint_core::material::BLINN_HIGHLIGHT),
         ("KIND_SUPERELLIPSOID", glint_core::shape::ShapeKind::Superellipsoid as u32),
         ("KIND_IMPLICIT", glint_core::shape::ShapeKind::Implicit as u32),
         ("KIND_BLOB", glint_core::shape::ShapeKind::Blob as u32),

@@ -172,6 +172,22 @@ fn textures_match_the_cpu() {
 }
 
 #[test]
+fn blinn_highlights_and_textured_ambient_match_the_cpu() {
+    let Some(gpu) = gpu() else { return };
+    let source = format!(
+        "{room}\nlight point {{ position [1 2.5 2] color 0.9 }}\n\
+         material \"satin\" {{ diffuse [0.6 0.3 0.2] specular 0.6 shininess 40 highlight \"blinn\" reflective 0 }}\n\
+         material \"pov\" {{ diffuse 0.8 texture \"tiles\" blend 0.8 textured_ambient true \
+         specular 0.4 shininess 80 highlight \"blinn\" reflective 0 }}\n\
+         sphere {{ material \"satin\" scale 0.4 translate [-0.6 0.4 0] }}\n\
+         cube {{ material \"pov\" scale 0.35 rotate [0 1 0] 25 translate [0.6 0.35 0] }}\n\
+         sphere {{ material \"pov\" scale 0.3 translate [0 0.3 0.7] }}\n",
+        room = ROOM.replace("ambient 0.08", "ambient 0.4")
+    );
+    check("whitted blinn, textured ambient", &whitted(&source, 40, 32), &gpu);
+}
+
+#[test]
 fn a_smooth_mesh_matches_the_cpu() {
     let Some(gpu) = gpu() else { return };
     // A low light grazes the coarse icosphere: its terminator needs the lifted shadow

@@ -215,6 +215,8 @@ fn everything(texture: &Path) -> SceneDesc {
             casts_shadows: false,
             normal_map: Some(glint_core::desc::NormalMapDesc { texture: 0, scale: 0.75 }),
             emission_texture: Some(0),
+            highlight: glint_core::desc::Highlight::Blinn,
+            textured_ambient: true,
         },
         MaterialDesc { name: "plain".into(), texture: Some(0), diffuse: Vec3::splat(0.5), ..MaterialDesc::default() },
         MaterialDesc { name: String::new(), ..MaterialDesc::default() },

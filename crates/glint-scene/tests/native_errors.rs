@@ -392,3 +392,12 @@ fn rectangle_is_a_shape_without_an_inside() {
     assert_error("rectangle { minor_radius 0.3 }", 1, 13, "unknown property 'minor_radius' in 'rectangle'");
     assert_error("union { rectangle { } sphere { } }", 1, 9, "a rectangle has no inside");
 }
+
+#[test]
+fn a_highlight_is_phong_or_blinn() {
+    let e = error("material \"m\" {\n  highlight \"cook-torrance\"\n}");
+    let text = e.to_string();
+    assert!(text.starts_with("scene.glint:2:"), "{text}");
+    assert!(text.contains("phong") && text.contains("blinn"), "{text}");
+    assert_error("material \"m\" { textured_ambient 1 }", 1, 33, "expected true or false after 'textured_ambient'");
+}

@@ -200,7 +200,7 @@ fn material_with_every_property() {
          texture \"checks\" checker { cells 2 }\n\
          material \"floor\" { diffuse [1 0.5 0.25] specular 0.5 shininess 200 reflective [0.1 0.1 0.1] \
          transmissive [0.9 0.8 0.7] ior 1.5 ambient [0.2 0.2 0.2] ka 0.5 kd 0.6 ks 0.7 kt 0.8 \
-         texture \"checks\" blend 0.75 repeat [4 2] }",
+         texture \"checks\" blend 0.75 repeat [4 2] highlight \"blinn\" textured_ambient true }",
     );
     assert_eq!(
         scene.materials,
@@ -220,6 +220,8 @@ fn material_with_every_property() {
             texture: Some(1),
             blend: 0.75,
             texture_repeat: Vec2::new(4.0, 2.0),
+            highlight: glint_core::desc::Highlight::Blinn,
+            textured_ambient: true,
             ..MaterialDesc::default()
         }]
     );

@@ -18,7 +18,7 @@ use std::f32::consts::{FRAC_1_PI, PI};
 use super::lobes::{cosine_hemisphere, cosine_hemisphere_pdf, mirror, phong_lobe, phong_lobe_pdf};
 use super::{Bsdf, BsdfKind, BsdfSample, SurfaceBsdf, TWO_SIDED};
 use crate::desc::MaterialDesc;
-use crate::material::Material;
+use crate::material::{BLINN_HIGHLIGHT, Material};
 
 /// The Phong record of a material without an explicit BSDF.
 pub(super) fn from_phong(desc: &MaterialDesc, base: Bsdf) -> Bsdf {
@@ -35,9 +35,17 @@ pub(super) fn from_phong(desc: &MaterialDesc, base: Bsdf) -> Bsdf {
         transmittance: m.transmissive,
         eta: Vec3::splat(m.ior),
         glossy: m.specular,
-        exponent: m.shininess.max(0.0),
+        exponent: lobe_exponent(&m),
         ..base
     }
+}
+
+/// The glossy lobe's exponent around the mirror direction. A Blinn highlight `(n·h)^n`
+/// is about as wide as Phong's `(r·v)^(n/4)` (the half-vector angle is half the
+/// mirror-direction angle), so Blinn materials keep their highlight's size.
+fn lobe_exponent(m: &Material) -> f32 {
+    let n = m.shininess.max(0.0);
+    if m.highlight == BLINN_HIGHLIGHT { n / 4.0 } else { n }
 }
 
 /// The four lobe weights (diffuse, glossy, mirror, transmitted), scaled to conserve

@@ -131,7 +131,7 @@ fn direct_lighting(
         (features.textures && m.texture != NO_TEXTURE).then(|| scene.texture(m.texture, hit.uv * m.texture_repeat));
     // Vertex colours tint the object's own colours (ambient and diffuse), not highlights.
     let diffuse = m.diffuse_with(texel) * hit.color;
-    let mut color = scene.settings.ambient_light * m.ambient * hit.color;
+    let mut color = scene.settings.ambient_light * m.ambient_with(texel) * hit.color;
     observer.term("ambient L_a·k_a·O_a", color);
     // Seen from outside, a smooth mesh's shadow rays start on the surface its normals
     // describe (Hanika 2021), which removes the jagged self-shadow at the terminator.
@@ -165,8 +165,7 @@ fn direct_lighting(
             if filter == Vec3::ZERO {
                 continue;
             }
-            let r = reflect(-incidence.to_light, n);
-            let highlight = if m.specular == Vec3::ZERO { 0.0 } else { r.dot(v).max(0.0).powf(m.shininess) };
+            let highlight = if m.specular == Vec3::ZERO { 0.0 } else { m.highlight(n, incidence.to_light, v) };
             let lit = filter * incidence.radiance;
             observer.light(light_index, lit * diffuse * n_dot_l, lit * m.specular * highlight);
             color += lit * (diffuse * n_dot_l + m.specular * highlight);

@@ -266,13 +266,15 @@ fn shading_of(entry: Pending, r: Ray, hit: Hit) -> Shading {
     s.n = select(-hit.normal, hit.normal, s.entering);
     s.ng = select(-hit.geometric_normal, hit.geometric_normal, s.entering);
     var diffuse = v3(m.diffuse);
+    var ambient = v3(m.ambient);
     if feature(FEATURE_TEXTURES) && m.texture != NO_TEXTURE {
         let texel = texture_sample(m.texture, hit.uv * v2(m.texture_repeat));
         diffuse = (1.0 - m.blend) * diffuse + m.blend * m.kd * texel;
+        ambient = (1.0 - m.ambient_blend) * ambient + m.ambient_blend * m.ka * texel;
     }
     s.diffuse = diffuse * hit.color;
     s.specular = v3(m.specular);
-    s.direct = params.ambient.xyz * v3(m.ambient) * hit.color;
+    s.direct = params.ambient.xyz * ambient * hit.color;
     // Seen from outside, a smooth mesh's shadow rays start on the surface its normals
     // describe (Hanika 2021).
     let outside = dot(hit.geometric_normal, s.n) >= 0.0;
@@ -281,6 +283,17 @@ fn shading_of(entry: Pending, r: Ray, hit: Hit) -> Shading {
     s.light = 0u;
     s.sample = 0u;
     return s;
+}
+
+// Material::highlight: (r·v)^n, or Blinn's (n·h)^n.
+fn highlight_of(m: Material, n: vec3<f32>, l: vec3<f32>, v: vec3<f32>) -> f32 {
+    var cosine = dot(reflect_dir(-l, n), v);
+    if m.highlight == BLINN_HIGHLIGHT {
+        let h = l + v;
+        let length2 = dot(h, h);
+        cosine = select(0.0, dot(h, n) / sqrt(length2), length2 > 0.0);
+    }
+    return pow_nonnegative(max(cosine, 0.0), m.shininess);
 }
 
 // Draws light samples (each its jitter) until one needs a shadow ray: true, with its
@@ -302,10 +315,9 @@ fn next_light_sample(s: ptr<function, Shading>, rng: ptr<function, u32>) -> bool
         if n_dot_l <= 0.0 || all(incidence.radiance == vec3<f32>(0.0)) {
             continue;
         }
-        let r = reflect_dir(-incidence.to_light, (*s).n);
         var highlight = 0.0;
         if any((*s).specular != vec3<f32>(0.0)) {
-            highlight = pow_nonnegative(max(dot(r, -(*s).d), 0.0), (*s).m.shininess);
+            highlight = highlight_of((*s).m, (*s).n, incidence.to_light, -(*s).d);
         }
         (*s).incidence = incidence;
         (*s).phong = (*s).diffuse * n_dot_l + (*s).specular * highlight;

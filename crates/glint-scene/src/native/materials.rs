@@ -1,7 +1,7 @@
 //! `material "name" { … }` and `texture "name" checker|image { … }`.
 
 use glam::{Vec2, Vec3};
-use glint_core::desc::{ImageSampling, MaterialDesc, NormalMapDesc, TextureDesc, TextureWrap, Transfer};
+use glint_core::desc::{Highlight, ImageSampling, MaterialDesc, NormalMapDesc, TextureDesc, TextureWrap, Transfer};
 
 use super::args::{self, Result, Seen};
 use super::bsdf;
@@ -13,7 +13,7 @@ use crate::texture_io;
 /// The texture types, in the order the documentation lists them.
 pub const TEXTURE_KINDS: [&str; 2] = ["checker", "image"];
 
-const MATERIAL_PROPERTIES: [&str; 22] = [
+const MATERIAL_PROPERTIES: [&str; 24] = [
     "diffuse",
     "specular",
     "shininess",
@@ -36,6 +36,8 @@ const MATERIAL_PROPERTIES: [&str; 22] = [
     "normal_map",
     "normal_scale",
     "emission_texture",
+    "highlight",
+    "textured_ambient",
 ];
 
 /// Builds a material; unset properties keep [`MaterialDesc::default`].
@@ -71,6 +73,8 @@ pub fn material(src: &Source, node: &Node, name: &str, textures: &Registry) -> R
             "emission" => m.emission = args::color(src, prop)?,
             "two_sided" => m.two_sided = args::boolean(src, prop)?,
             "casts_shadows" => m.casts_shadows = args::boolean(src, prop)?,
+            "textured_ambient" => m.textured_ambient = args::boolean(src, prop)?,
+            "highlight" => m.highlight = highlight(src, prop)?,
             "microfacet" => m.microfacet = microfacet(src, prop)?,
             "texture" => {
                 args::no_block(src, prop)?;
@@ -177,4 +181,8 @@ fn wrap(src: &Source, prop: &Node) -> Result<TextureWrap> {
 fn microfacet(src: &Source, prop: &Node) -> Result<glint_core::desc::MicrofacetKind> {
     use glint_core::desc::MicrofacetKind;
     args::choice(src, prop, &[("ggx", MicrofacetKind::Ggx), ("beckmann", MicrofacetKind::Beckmann)])
+}
+
+fn highlight(src: &Source, prop: &Node) -> Result<Highlight> {
+    args::choice(src, prop, &[("phong", Highlight::Phong), ("blinn", Highlight::Blinn)])
 }

@@ -365,6 +365,12 @@ impl Writer {
         if !m.casts_shadows {
             lines.push("casts_shadows false".to_owned());
         }
+        if m.highlight == glint_core::desc::Highlight::Blinn {
+            lines.push("highlight \"blinn\"".to_owned());
+        }
+        if m.textured_ambient {
+            lines.push("textured_ambient true".to_owned());
+        }
         if let Some(map) = m.normal_map {
             let Some(texture_name) = textures.get(map.texture) else {
                 return fail(format!(
@@ -414,6 +420,8 @@ impl Writer {
             casts_shadows: defaults.casts_shadows,
             normal_map: defaults.normal_map,
             emission_texture: defaults.emission_texture,
+            highlight: defaults.highlight,
+            textured_ambient: defaults.textured_ambient,
             ..m.clone()
         };
         if rest != defaults {
