@@ -12,36 +12,12 @@ Pure Python, no dependencies.
 import argparse
 import sys
 
+import ppm
+
 
 def read_ppm(path):
-    with open(path, "rb") as f:
-        data = f.read()
-    fields = []
-    i = 0
-    while len(fields) < 4:
-        while data[i:i + 1].isspace():
-            i += 1
-        if data[i:i + 1] == b"#":
-            while data[i:i + 1] not in (b"\n", b""):
-                i += 1
-            continue
-        j = i
-        while not data[j:j + 1].isspace():
-            j += 1
-        fields.append(data[i:j])
-        i = j
-    if fields[0] != b"P6":
-        sys.exit(f"{path}: not a binary PPM (P6)")
-    width, height, maxval = int(fields[1]), int(fields[2]), int(fields[3])
-    i += 1  # the single whitespace after maxval
-    step = 2 if maxval > 255 else 1
-    pixels = data[i:]
-    half = (maxval + 1) // 2
-    mask = []
-    for p in range(width * height):
-        base = 3 * step * p
-        value = max(int.from_bytes(pixels[base + c * step:base + (c + 1) * step], "big") for c in range(3))
-        mask.append(value >= half)
+    width, height, values = ppm.read(path)
+    mask = [max(values[3 * p:3 * p + 3]) >= 0.5 for p in range(width * height)]
     return width, height, mask
 
 

@@ -1,0 +1,120 @@
+#!/usr/bin/env bash
+# glint against POV-Ray 3.7 on a classic Whitted scene (bench/povray/whitted.glint and
+# whitted.pov: seven analytic objects, two point lights, mirror and glass, 800x600),
+# on the same cores, in two tables:
+#
+# 1. Trace rate without anti-aliasing, best of ROUNDS runs: rays counted as POV-Ray
+#    counts them — camera, reflected and refracted rays, and shadow rays apart — over
+#    each renderer's own trace time (POV-Ray's "Trace Time"; glint's "traced in", which
+#    leaves out parsing, the BVH build and writing the image, as POV-Ray's does).
+#    glint counts all its rays together; a second run with shadows off counts the
+#    others (shadow rays spawn no rays, so the ray tree is the same).
+# 2. The whole process at equal anti-aliasing error: each renderer's error is the RMS
+#    difference (8-bit steps, sRGB) from its own converged image; POV-Ray runs with its
+#    usual anti-aliasing (+A0.3 +R3), glint with a ladder of settings, and the table
+#    gives wall-clock times from start to exit.
+#
+#   bench/povray_whitted.sh          # results in target/povray-whitted/
+#   THREADS=1 ROUNDS=5 bench/povray_whitted.sh
+#
+# Needs POV-Ray 3.7 (`apt-get install -y povray`) and python3.
+set -euo pipefail
+
+root="$(cd "$(dirname "$0")/.." && pwd)"
+out="${OUT:-$root/target/povray-whitted}"
+glint="${GLINT:-$root/target/release/glint}"
+threads="${THREADS:-2}"
+rounds="${ROUNDS:-3}"
+scene="$root/bench/povray/whitted"
+aa_error="$root/bench/povray/aa_error.py"
+
+if ! command -v povray >/dev/null; then
+    echo "povray is not installed; on Debian/Ubuntu: apt-get install -y povray" >&2
+    exit 1
+fi
+if [[ ! -x "$glint" ]]; then
+    (cd "$root" && cargo build --release -p glint-cli)
+fi
+mkdir -p "$out"
+sed 's/^  max_depth 5$/  max_depth 5\n  shadows false/' "$scene.glint" >"$out/whitted-no-shadows.glint"
+grep -q 'shadows false' "$out/whitted-no-shadows.glint"
+
+now() { date +%s.%N; }
+
+# glint NAME ARGS…: renders to NAME.ppm; prints "wall traced rays".
+glint_run() {
+    local name="$1" start end
+    shift
+    start=$(now)
+    "$glint" render "$@" -o "$out/$name.ppm" -j "$threads" 2>"$out/$name.log"
+    end=$(now)
+    sed -n 's/.*traced in \([0-9.]*\) s.*: \([0-9]*\) rays,.*/\1 \2/p' "$out/$name.log" | tail -1 |
+        { read -r traced rays; echo "$(echo "$end - $start" | bc) $traced $rays"; }
+}
+
+# pov NAME OPTIONS…: renders to NAME.ppm; prints "wall traced rays shadow_rays".
+pov_run() {
+    local name="$1" start end
+    shift
+    start=$(now)
+    (cd "$out" && povray "+I$scene.pov" "+L$root/bench/povray" "+O$name.ppm" +FP +W800 +H600 -D -V \
+        "+WT$threads" "$@" >"$name.log" 2>&1) || { echo "POV-Ray failed; see $out/$name.log" >&2; exit 1; }
+    end=$(now)
+    local traced rays shadow
+    traced=$(sed -n 's/.*Trace Time:.*(\([0-9.]*\) seconds).*/\1/p' "$out/$name.log")
+    rays=$(sed -n 's/^Rays: *\([0-9]*\).*/\1/p' "$out/$name.log")
+    shadow=$(sed -n 's/^Shadow Ray Tests: *\([0-9]*\).*/\1/p' "$out/$name.log")
+    echo "$(echo "$end - $start" | bc) $traced $rays $shadow"
+}
+
+echo "== trace rate, no anti-aliasing, 800x600, $threads threads, best of $rounds"
+best_g=""; best_p=""
+for _ in $(seq "$rounds"); do
+    read -r _ g_traced g_all < <(glint_run glint-1 "$scene.glint")
+    read -r _ p_traced p_rays p_shadow < <(pov_run pov-1 -A)
+    if [[ -z "$best_g" ]] || (($(echo "$g_traced < $best_g" | bc))); then best_g=$g_traced; fi
+    if [[ -z "$best_p" ]] || (($(echo "$p_traced < $best_p" | bc))); then best_p=$p_traced; fi
+done
+read -r _ _ g_rays < <(glint_run glint-no-shadows "$out/whitted-no-shadows.glint")
+g_shadow=$((g_all - g_rays))
+python3 - "$best_g" "$g_rays" "$g_shadow" "$best_p" "$p_rays" "$p_shadow" <<'PY'
+import sys
+g_t, g_r, g_s, p_t, p_r, p_s = map(float, sys.argv[1:])
+print("| renderer | camera + secondary rays | shadow rays | trace time (s) | M rays/s (all) |")
+print("|---|---:|---:|---:|---:|")
+for name, t, r, s in (("glint", g_t, g_r, g_s), ("POV-Ray 3.7", p_t, p_r, p_s)):
+    print(f"| {name} | {r:,.0f} | {s:,.0f} | {t:.3f} | {(r + s) / t / 1e6:.2f} |")
+print(f"glint/POV-Ray ray rate: {((g_r + g_s) / g_t) / ((p_r + p_s) / p_t):.2f}x")
+PY
+
+echo
+echo "== whole process at equal anti-aliasing error (each against its own converged image)"
+glint_run glint-reference "$scene.glint" --samples 16 --pattern jittered >/dev/null
+pov_run pov-reference +A0.0 +AM1 +R8 +J >/dev/null
+echo "| renderer, settings | wall (s) | AA error (8-bit RMS) |"
+echo "|---|---:|---:|"
+read -r p_wall _ < <(pov_run pov-aa +A0.3 +AM1 +R3)
+p_error=$(python3 "$aa_error" "$out/pov-aa.ppm" "$out/pov-reference.ppm")
+printf '| POV-Ray +A0.3 +R3 | %.2f | %s |\n' "$p_wall" "$p_error"
+p_none=$(python3 "$aa_error" "$out/pov-1.ppm" "$out/pov-reference.ppm")
+echo "| POV-Ray, no anti-aliasing | – | $p_none |"
+best=""
+for settings in "--samples 2" "--samples 2 --pattern sobol" "--samples 3 --pattern sobol" \
+    "--samples 4 --pattern sobol" "--adaptive 1,16,0.05" "--adaptive 2,8,0.04" "--adaptive 2,16,0.03" \
+    "--adaptive 4,16,0.02"; do
+    # shellcheck disable=SC2086 # the settings are words
+    read -r wall _ < <(glint_run glint-aa "$scene.glint" $settings)
+    error=$(python3 "$aa_error" "$out/glint-aa.ppm" "$out/glint-reference.ppm")
+    printf '| glint %s | %.2f | %s |\n' "$settings" "$wall" "$error"
+    if (($(echo "$error <= $p_error" | bc))) && { [[ -z "$best" ]] || (($(echo "$wall < $best" | bc))); }; then
+        best=$wall
+    fi
+done
+g_none=$(python3 "$aa_error" "$out/glint-1.ppm" "$out/glint-reference.ppm")
+echo "| glint, no anti-aliasing | – | $g_none |"
+if [[ -n "$best" ]]; then
+    printf "fastest glint setting at POV-Ray's error or less: %.2f s, %.2fx faster than POV-Ray\n" "$best" \
+        "$(echo "$p_wall / $best" | bc -l)"
+else
+    echo "no glint setting reached POV-Ray's error"
+fi
