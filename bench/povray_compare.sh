@@ -18,14 +18,8 @@ out="${OUT:-$root/target/povray-compare}"
 glint="${GLINT:-$root/target/release/glint}"
 threads="${THREADS:-2}"
 
-if ! command -v povray >/dev/null; then
-    echo "povray is not installed; on Debian/Ubuntu: apt-get install -y povray" >&2
-    exit 1
-fi
-if [[ ! -x "$glint" ]]; then
-    (cd "$root" && cargo build --release -p glint-cli)
-fi
-mkdir -p "$out"
+# shellcheck source=povray/prelude.sh
+source "$root/bench/povray/prelude.sh"
 
 for scene in csg blobs implicit; do
     start=$(date +%s.%N)

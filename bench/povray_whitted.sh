@@ -28,14 +28,8 @@ rounds="${ROUNDS:-3}"
 scene="$root/bench/povray/whitted"
 aa_error="$root/bench/povray/aa_error.py"
 
-if ! command -v povray >/dev/null; then
-    echo "povray is not installed; on Debian/Ubuntu: apt-get install -y povray" >&2
-    exit 1
-fi
-if [[ ! -x "$glint" ]]; then
-    (cd "$root" && cargo build --release -p glint-cli)
-fi
-mkdir -p "$out"
+# shellcheck source=povray/prelude.sh
+source "$root/bench/povray/prelude.sh"
 sed 's/^  max_depth 5$/  max_depth 5\n  shadows false/' "$scene.glint" >"$out/whitted-no-shadows.glint"
 grep -q 'shadows false' "$out/whitted-no-shadows.glint"
 
