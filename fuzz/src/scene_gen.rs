@@ -243,9 +243,10 @@ impl FuzzScene {
     }
 }
 
-fn checker((even, odd, cells): &(Color, Color, u8)) -> TextureDesc {
-    let cells = Vec2::splat(f32::from(cells % 16 + 1));
-    TextureDesc::Checker { name: "checks".into(), even: even.get(), odd: odd.get(), cells }
+/// The byte's low bits give the cell count, its top bit the footprint filter.
+fn checker((even, odd, bits): &(Color, Color, u8)) -> TextureDesc {
+    let cells = Vec2::splat(f32::from(bits % 16 + 1));
+    TextureDesc::Checker { name: "checks".into(), even: even.get(), odd: odd.get(), cells, filtered: bits & 0x80 != 0 }
 }
 
 impl FuzzCamera {

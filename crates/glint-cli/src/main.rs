@@ -203,11 +203,13 @@ struct RenderArgs {
     #[arg(long)]
     height: Option<u32>,
     /// Samples per pixel along each axis: N gives an N×N grid per pixel (overrides the
-    /// scene, including a total set by its `spp`; --spp wins when both are given).
+    /// scene, including a total set by its `spp` and its adaptive sampling; --spp wins
+    /// when both are given).
     #[arg(long)]
     samples: Option<u32>,
-    /// Samples per pixel in total, for any integrator (overrides the scene and --samples;
-    /// a count that is not a square takes Sobol positions).
+    /// Samples per pixel in total, for any integrator (overrides the scene, its adaptive
+    /// sampling included, and --samples; a count that is not a square takes Sobol
+    /// positions).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SPP)))]
     spp: Option<u32>,
     /// Light-transport algorithm (overrides the scene). `path` keeps the scene's path

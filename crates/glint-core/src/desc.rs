@@ -462,7 +462,17 @@ pub enum TextureDesc {
         sampling: ImageSampling,
     },
     /// Alternating squares: `cells` squares along u and v of the unit uv square.
-    Checker { name: String, even: Vec3, odd: Vec3, cells: Vec2 },
+    /// `filtered` averages the squares over each pixel's footprint on the surface, which
+    /// removes the moiré of a checkered floor at the horizon without more samples
+    /// (Whitted shading; the path tracer's many samples integrate the pattern anyway).
+    Checker {
+        name: String,
+        even: Vec3,
+        odd: Vec3,
+        cells: Vec2,
+        #[serde(default)]
+        filtered: bool,
+    },
 }
 
 /// How an image texture is read between its texels and beyond its edges, as glTF's

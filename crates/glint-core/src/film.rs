@@ -175,7 +175,7 @@ impl Image {
         let values = self.pixels.iter().flat_map(|p| p.to_array());
         match transfer {
             // By table: the same bytes as through `linear_to_srgb`, several times faster.
-            Transfer::Srgb => values.map(srgb8::encode).collect(),
+            Transfer::Srgb => values.map(srgb8::encoder()).collect(),
             Transfer::Identity => values.map(|c| (clamp_unit(c) * 255.0 + 0.5) as u8).collect(),
         }
     }

@@ -11,6 +11,7 @@ pub mod desc;
 pub mod emitter;
 pub mod film;
 pub mod fnv;
+pub mod footprint;
 pub mod integrator;
 pub mod light;
 pub mod material;

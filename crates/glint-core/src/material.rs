@@ -113,6 +113,21 @@ impl Material {
         cosine.max(0.0).powf(self.shininess)
     }
 
+    /// The specular term as the explained ray tree names it.
+    pub fn specular_formula(&self) -> &'static str {
+        if self.highlight == BLINN_HIGHLIGHT { "k_s·O_s·(n·h)^n" } else { "k_s·O_s·(r·v)^n" }
+    }
+
+    /// The ambient term as the explained ray tree names it, where the texture gave
+    /// `texel` (or nothing).
+    pub fn ambient_formula(&self, texel: Option<Vec3>) -> &'static str {
+        if self.ambient_blend > 0.0 && texel.is_some() {
+            "ambient L_a·k_a·((1−b)·O_a + b·T)"
+        } else {
+            "ambient L_a·k_a·O_a"
+        }
+    }
+
     /// Whether any light passes through (shadow rays must look past it).
     pub fn is_transmissive(&self) -> bool {
         self.transmissive.max_element() > 0.0
@@ -149,6 +164,8 @@ mod tests {
         let (n, l, v) = (Vec3::Y, at(30.0), at(30.0));
         let phong = shiny(Highlight::Phong).highlight(n, l, v);
         let blinn = shiny(Highlight::Blinn).highlight(n, l, v);
+        assert_eq!(shiny(Highlight::Phong).specular_formula(), "k_s·O_s·(r·v)^n");
+        assert_eq!(shiny(Highlight::Blinn).specular_formula(), "k_s·O_s·(n·h)^n");
         assert!((phong - 0.5f32.powf(10.0)).abs() < 1e-6, "{phong}");
         assert!((blinn - 30f32.to_radians().cos().powf(10.0)).abs() < 1e-5, "{blinn}");
         // Light and viewer 10° apart on either side of the normal: the half vector is
@@ -184,9 +201,13 @@ mod tests {
         assert!(
             (pov.diffuse_with(Some(texel)) - 0.8 * (0.25 * desc.diffuse + 0.75 * texel)).abs().max_element() < 1e-6
         );
+        // The explained ray tree names the term that was computed.
+        assert_eq!(lecture.ambient_formula(Some(texel)), "ambient L_a·k_a·O_a");
+        assert_eq!(pov.ambient_formula(Some(texel)), "ambient L_a·k_a·((1−b)·O_a + b·T)");
         // Without a texture there is nothing to follow.
         let untextured = Material::compile(&MaterialDesc { textured_ambient: true, ..desc }, None);
         assert_eq!(untextured.ambient_with(None), untextured.ambient);
+        assert_eq!(untextured.ambient_formula(None), "ambient L_a·k_a·O_a");
         assert_eq!(untextured.ambient_blend, 0.0);
     }
 }

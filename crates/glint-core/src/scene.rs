@@ -13,6 +13,7 @@ use crate::desc::{
     AdaptiveDesc, Features, IntegratorDesc, NodeDesc, NodeKind, SceneDesc, ShapeDesc, TextureDesc, TransformOp,
 };
 use crate::emitter::{Emitter, Environment};
+use crate::footprint::PixelSpacing;
 use crate::light::Light;
 use crate::material::{Material, NO_TEXTURE};
 use crate::math::{Aabb, Ray, Transform, offset_ray_origin};
@@ -60,6 +61,11 @@ pub struct Settings {
     pub spp: u32,
     /// Also accumulate albedo, normal and depth images (off unless a caller asks).
     pub aovs: bool,
+    /// The pixel footprint filtered textures average over, as a fraction of a pixel
+    /// ([`crate::footprint::footprint_scale`] of `spp`). A renderer that accumulates
+    /// passes of one sample each narrows it pass by pass, as if they were one image's
+    /// samples.
+    pub footprint_scale: f32,
 }
 
 /// Everything a backend needs, as flat arrays of plain records.
@@ -376,6 +382,7 @@ fn compile_settings(desc: &SceneDesc) -> Result<Settings, CompileError> {
         integrator: s.integrator,
         spp,
         aovs: false,
+        footprint_scale: crate::footprint::footprint_scale(spp),
     })
 }
 
@@ -760,6 +767,55 @@ impl RenderScene {
     /// Samples texture `index` at `uv`.
     pub fn texture(&self, index: u32, uv: Vec2) -> Vec3 {
         self.textures[index as usize].sample(uv, &self.texels)
+    }
+
+    /// Texture `index` where a ray at `time` met `hit`, its uv scaled by `repeat`: the
+    /// texture's mean over the pixel's footprint when it is filtered, else its value at
+    /// the point.
+    pub fn texture_at_hit(&self, index: u32, hit: &Hit, repeat: Vec2, time: f32) -> Vec3 {
+        let texture = &self.textures[index as usize];
+        let uv = hit.uv * repeat;
+        if !texture.is_filtered() {
+            return texture.sample(uv, &self.texels);
+        }
+        let steps = self.uv_steps(hit, time).map(|steps| steps.map(|step| step * repeat));
+        texture.sample_over(uv, steps, &self.texels)
+    }
+
+    /// The steps in uv from `hit` to where the neighbouring pixels see its surface (see
+    /// [`crate::footprint`]); `None` where the footprint is unbounded.
+    pub fn uv_steps(&self, hit: &Hit, time: f32) -> Option<[Vec2; 2]> {
+        let s = &self.settings;
+        let spacing = PixelSpacing::new(&self.camera, s.width, s.height, s.footprint_scale);
+        let steps = spacing.surface_steps(hit.point, hit.geometric_normal)?;
+        let inst = &self.instances[hit.instance as usize];
+        let xf = self.transform_at(inst, time);
+        if inst.shape.kind == ShapeKind::Mesh {
+            // A triangle's uv is linear in p: solve step = a·∂p/∂u + b·∂p/∂v for (a, b)
+            // by least squares. Without uvs the texture sees one uv (no footprint).
+            let mesh = &self.meshes[inst.shape.mesh_index() as usize];
+            let Some((dpdu, dpdv)) = mesh.uv_frame(hit.part as usize) else { return Some([Vec2::ZERO; 2]) };
+            let (u, v) = (xf.vector_to_world(dpdu), xf.vector_to_world(dpdv));
+            let (uu, uv, vv) = (u.dot(u), u.dot(v), v.dot(v));
+            let det = uu * vv - uv * uv;
+            let solve = |step: Vec3| {
+                let (su, sv) = (u.dot(step), v.dot(step));
+                Vec2::new(vv * su - uv * sv, uu * sv - uv * su) / det
+            };
+            let steps = steps.map(solve);
+            return steps.iter().all(|d| d.is_finite()).then_some(steps);
+        }
+        // Analytic shapes give uv from the point (and the part of the surface), so the
+        // uv at each neighbour's point on the tangent plane is the shape's own answer.
+        let uv_at = |step: Vec3| {
+            let local = xf.ray_to_object(&Ray::new(hit.point + step, -hit.normal));
+            inst.shape.surface_with(&self.shape_tables, &local, crate::shape::ShapeHit { t: 0.0, part: hit.part }).uv
+        };
+        // Bounded shapes' uvs wrap at a seam (a sphere's u from 1 to 0): the step across
+        // it is the short way round. The plane's uvs run on unbounded.
+        let unwrapped = |d: Vec2| if inst.shape.kind == ShapeKind::Plane { d } else { d - d.round() };
+        let steps = steps.map(|step| unwrapped(uv_at(step) - hit.uv));
+        steps.iter().all(|d| d.is_finite()).then_some(steps)
     }
 
     /// Radiance of a ray that leaves the scene along `dir`: the environment's, or the

@@ -1,5 +1,6 @@
 //! Colour patterns over uv: image textures (bilinear or nearest; repeating, clamped or
-//! mirrored beyond the image) and a procedural checker.
+//! mirrored beyond the image) and a procedural checker, which can be averaged exactly over
+//! a pixel's footprint.
 
 use bytemuck::NoUninit;
 use glam::{Vec2, Vec3};
@@ -10,6 +11,8 @@ use crate::desc::{ImageSampling, TextureDesc, TextureWrap};
 const WRAP_V_SHIFT: u32 = 2;
 const WRAP_MASK: u32 = 3;
 const NEAREST: u32 = 16;
+/// A checker averaged over each pixel's footprint ([`Texture::sample_over`]).
+pub const FILTERED: u32 = 32;
 
 /// What a [`Texture`] record is.
 #[repr(u32)]
@@ -73,7 +76,7 @@ impl Texture {
                     flags: flags_of(sampling),
                 }
             }
-            TextureDesc::Checker { even, odd, cells, .. } => Self {
+            TextureDesc::Checker { even, odd, cells, filtered, .. } => Self {
                 kind: TextureKind::Checker,
                 width: 0,
                 height: 0,
@@ -81,7 +84,7 @@ impl Texture {
                 even: *even,
                 odd: *odd,
                 cells: *cells,
-                flags: 0,
+                flags: if *filtered { FILTERED } else { 0 },
             },
         }
     }
@@ -95,6 +98,30 @@ impl Texture {
             }
             TextureKind::Image => self.image(uv, texels),
         }
+    }
+
+    /// Whether the colour depends on the footprint ([`Texture::sample_over`]), so a
+    /// caller must work the footprint out.
+    #[inline]
+    pub fn is_filtered(&self) -> bool {
+        self.flags & FILTERED != 0
+    }
+
+    /// The colour averaged over the pixel footprint at `uv`, whose steps to the
+    /// neighbouring pixels are `steps` (in the same units as `uv`; `None`: unbounded, the
+    /// pattern's mean). Unfiltered textures ignore the footprint.
+    pub fn sample_over(&self, uv: Vec2, steps: Option<[Vec2; 2]>, texels: &[Vec3]) -> Vec3 {
+        if !self.is_filtered() || self.kind != TextureKind::Checker {
+            return self.sample(uv, texels);
+        }
+        // The box the two steps span, measured in cells.
+        let width = steps.map_or(Vec2::INFINITY, |[dx, dy]| (dx.abs() + dy.abs()) * self.cells);
+        let mean = |x: f32, w: f32| box_filtered_square_wave(x, w);
+        let cell = uv * self.cells;
+        let sign = mean(cell.x, width.x) * mean(cell.y, width.y);
+        // sign = +1 on an even cell, −1 on an odd one; the average of the product of
+        // the two axes' waves is the product of their averages (the box is separable).
+        self.even * (0.5 + 0.5 * sign) + self.odd * (0.5 - 0.5 * sign)
     }
 
     /// Bilinear (or nearest) filtering, wrapped as the flags say; v = 1 is the image's
@@ -128,18 +155,96 @@ impl Texture {
     }
 }
 
+/// The mean over `[x − w/2, x + w/2]` of the square wave that is +1 on even cells
+/// `[2k, 2k + 1)` and −1 on odd ones: the difference of its integral, a triangle wave,
+/// across the box. Point-sampled when the box is too narrow for `f32` to tell the ends
+/// apart, zero when it spans so many cells that the mean is lost in rounding.
+fn box_filtered_square_wave(x: f32, w: f32) -> f32 {
+    let point = if (x.floor()).rem_euclid(2.0) == 0.0 { 1.0 } else { -1.0 };
+    if w.is_nan() || w <= 1e-4 * x.abs().max(1.0) {
+        return point;
+    }
+    if w >= 1e4 {
+        return 0.0;
+    }
+    // ∫₀ˣ wave = 1 − |1 − (x mod 2)|.
+    let integral = |x: f32| 1.0 - (1.0 - x.rem_euclid(2.0)).abs();
+    ((integral(x + 0.5 * w) - integral(x - 0.5 * w)) / w).clamp(-1.0, 1.0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn checker_alternates_and_repeats() {
-        let desc = TextureDesc::Checker { name: "c".into(), even: Vec3::ONE, odd: Vec3::ZERO, cells: Vec2::splat(2.0) };
-        let t = Texture::compile(&desc, &mut Vec::new());
+        let t = checker(false);
         assert_eq!(t.sample(Vec2::new(0.1, 0.1), &[]), Vec3::ONE);
         assert_eq!(t.sample(Vec2::new(0.6, 0.1), &[]), Vec3::ZERO);
         assert_eq!(t.sample(Vec2::new(0.6, 0.6), &[]), Vec3::ONE);
         assert_eq!(t.sample(Vec2::new(-0.4, 0.1), &[]), Vec3::ZERO);
+    }
+
+    /// White even and black odd cells, two along each axis of the unit square.
+    fn checker(filtered: bool) -> Texture {
+        let desc = TextureDesc::Checker {
+            name: "c".into(),
+            even: Vec3::ONE,
+            odd: Vec3::ZERO,
+            cells: Vec2::splat(2.0),
+            filtered,
+        };
+        Texture::compile(&desc, &mut Vec::new())
+    }
+
+    /// Steps of `du` across and `dv` down: a box `du` × `dv` in uv.
+    fn steps(du: f32, dv: f32) -> Option<[Vec2; 2]> {
+        Some([Vec2::new(du, 0.0), Vec2::new(0.0, dv)])
+    }
+
+    #[test]
+    fn a_filtered_checker_averages_exactly_over_whole_and_split_cells() {
+        let t = checker(true);
+        // A tiny footprint inside a cell is that cell.
+        let close = |a: Vec3, b: Vec3| (a - b).abs().max_element() < 1e-4;
+        assert!(close(t.sample_over(Vec2::new(0.1, 0.1), steps(1e-3, 1e-3), &[]), Vec3::ONE));
+        assert!(close(t.sample_over(Vec2::new(0.6, 0.1), steps(1e-3, 1e-3), &[]), Vec3::ZERO));
+        // Two whole cells along u (one period): half white, whatever the position.
+        for u in [0.0, 0.13, 0.5, 0.77] {
+            let c = t.sample_over(Vec2::new(u, 0.2), steps(1.0, 0.01), &[]);
+            assert!((c - Vec3::splat(0.5)).length() < 1e-5, "u {u}: {c}");
+        }
+        // Centred on the edge at u = 0.5 and a quarter cell wide: half and half.
+        let c = t.sample_over(Vec2::new(0.5, 0.2), steps(0.125, 0.01), &[]);
+        assert!((c - Vec3::splat(0.5)).length() < 1e-5, "{c}");
+        // Three quarters in the white cell: 0.75.
+        let c = t.sample_over(Vec2::new(0.4375, 0.2), steps(0.25, 0.01), &[]);
+        assert!((c - Vec3::splat(0.75)).length() < 1e-5, "{c}");
+        // An unbounded footprint is the mean; an unfiltered checker ignores the footprint.
+        assert_eq!(t.sample_over(Vec2::new(0.1, 0.1), None, &[]), Vec3::splat(0.5));
+        assert_eq!(checker(false).sample_over(Vec2::new(0.1, 0.1), None, &[]), Vec3::ONE);
+    }
+
+    #[test]
+    fn a_filtered_checker_is_the_mean_of_point_samples_over_its_box() {
+        let t = checker(true);
+        let mut rng = crate::sampling::Rng::new(7);
+        for _ in 0..40 {
+            let uv = Vec2::new(rng.next_f32() * 8.0 - 4.0, rng.next_f32() * 8.0 - 4.0);
+            let (du, dv) = (rng.next_f32() * 1.5, rng.next_f32() * 0.7);
+            let n = 200;
+            let mut sum = Vec3::ZERO;
+            for i in 0..n {
+                for j in 0..n {
+                    let offset =
+                        Vec2::new(du * ((i as f32 + 0.5) / n as f32 - 0.5), dv * ((j as f32 + 0.5) / n as f32 - 0.5));
+                    sum += t.sample(uv + offset, &[]);
+                }
+            }
+            let numeric = sum / (n * n) as f32;
+            let exact = t.sample_over(uv, steps(du, dv), &[]);
+            assert!((numeric - exact).abs().max_element() < 0.015, "uv {uv} box {du}×{dv}: {exact} vs {numeric}");
+        }
     }
 
     #[test]

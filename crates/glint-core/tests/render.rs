@@ -217,6 +217,7 @@ fn textures_blend_into_the_diffuse_colour() {
         even: Vec3::new(0.0, 1.0, 0.0),
         odd: Vec3::ZERO,
         cells: Vec2::ONE,
+        filtered: false,
     });
     // The plane's uv at the centre pixel is (0, 0): the "even" cell.
     assert_close(pixel(&desc), 0.75 * Vec3::new(1.0, 0.0, 0.0) + 0.25 * Vec3::new(0.0, 1.0, 0.0));
@@ -238,6 +239,7 @@ fn textured_ambient_follows_the_texture_as_the_diffuse_does() {
         even: Vec3::new(0.0, 1.0, 0.0),
         odd: Vec3::ZERO,
         cells: Vec2::ONE,
+        filtered: false,
     });
     // L_a·k_a·((1 − b)·O_a + b·T), O_a being O_d, at the "even" cell.
     let textured = 0.5 * (0.75 * Vec3::new(1.0, 0.0, 0.0) + 0.25 * Vec3::new(0.0, 1.0, 0.0));
@@ -489,4 +491,84 @@ fn degenerate_scenes_are_rejected_at_compile_time() {
     let mut desc = busy_scene();
     desc.lights.push(LightDesc::Point { position: Vec3::NAN, color: Vec3::ONE, attenuation: Vec3::X });
     assert!(compile(&desc).is_err());
+}
+
+/// A floor of fine checks, seen from eye height toward the horizon, lit from straight
+/// above so each pixel shows its texture's colour; `filtered` sets the checker's filter.
+fn checkered_floor(filtered: bool, spp: u32) -> SceneDesc {
+    SceneDesc {
+        meshes: vec![],
+        views: vec![],
+        settings: RenderSettings { width: 80, height: 40, spp: Some(spp), ..Default::default() },
+        camera: CameraDesc {
+            eye: Vec3::new(0.0, 1.0, 0.0),
+            look: Vec3::new(0.0, -0.2, -1.0),
+            up: Vec3::Y,
+            fov_y_degrees: 40.0,
+            ..Default::default()
+        },
+        lights: vec![LightDesc::Directional { direction: Vec3::NEG_Y, color: Vec3::ONE }],
+        materials: vec![MaterialDesc {
+            kd: 1.0,
+            diffuse: Vec3::ONE,
+            texture: Some(0),
+            blend: 1.0,
+            ambient: Some(Vec3::ZERO),
+            ..black()
+        }],
+        textures: vec![TextureDesc::Checker {
+            name: "c".into(),
+            even: Vec3::ONE,
+            odd: Vec3::ZERO,
+            cells: Vec2::splat(8.0),
+            filtered,
+        }],
+        objects: vec![node(ShapeDesc::Plane, 0, vec![])],
+    }
+}
+
+fn rms_difference(a: &Image, b: &Image) -> f32 {
+    let mut sum = 0.0;
+    for y in 0..a.height {
+        for x in 0..a.width {
+            sum += (a.get(x, y) - b.get(x, y)).length_squared() / 3.0;
+        }
+    }
+    (sum / (a.width * a.height) as f32).sqrt()
+}
+
+#[test]
+fn a_filtered_checker_at_one_sample_comes_close_to_the_supersampled_floor() {
+    let reference = render_desc(&checkered_floor(false, 256));
+    let point_sampled = rms_difference(&render_desc(&checkered_floor(false, 1)), &reference);
+    let filtered = rms_difference(&render_desc(&checkered_floor(true, 1)), &reference);
+    // Point samples alias toward the horizon (errors of half the contrast and more);
+    // the footprint's mean is what the 256 samples converge to, up to the difference
+    // between a box over the pixel and the film's reconstruction filter.
+    assert!(point_sampled > 0.2, "the scene must alias unfiltered: {point_sampled}");
+    assert!(filtered < 0.4 * point_sampled && filtered < 0.1, "filtered {filtered} vs point-sampled {point_sampled}");
+}
+
+#[test]
+fn footprints_in_uv_take_the_short_way_across_a_spheres_seam() {
+    // A unit sphere seen from 4 units away, turned four ways so its seam (a meridian)
+    // faces the camera in one of them; every pixel's uv step stays a pixel's worth.
+    for degrees in [0.0, 90.0, 180.0, 270.0] {
+        let mut desc = checkered_floor(true, 1);
+        desc.camera = CameraDesc { eye: Vec3::new(0.0, 0.0, 4.0), look: Vec3::NEG_Z, ..desc.camera };
+        desc.objects = vec![node(ShapeDesc::Sphere, 0, vec![TransformOp::Rotate { axis: Vec3::Y, degrees }])];
+        let scene = compile(&desc).expect("valid scene");
+        let mut largest: f32 = 0.0;
+        for x in 0..80 {
+            let film_x = 2.0 * (x as f32 + 0.5) / 80.0 - 1.0;
+            let ray = scene.camera.ray(film_x, 0.0, Vec2::ZERO);
+            if let Some(hit) = scene.intersect(&ray, f32::INFINITY) {
+                let steps = scene.uv_steps(&hit, 0.0).expect("a bounded footprint on a sphere seen whole");
+                largest = largest.max(steps[0].length()).max(steps[1].length());
+            }
+        }
+        // About 40 pixels span the sphere's front half (u from 0.25 to 0.75): a step of
+        // 1/80 in u, more toward the rim.
+        assert!(largest > 0.005 && largest < 0.2, "turned {degrees}°: largest uv step {largest}");
+    }
 }

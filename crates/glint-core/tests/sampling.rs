@@ -104,6 +104,7 @@ fn defocus_scene(aperture: f32) -> SceneDesc {
             even: Vec3::ONE,
             odd: Vec3::ZERO,
             cells: glam::Vec2::splat(1.0),
+            filtered: false,
         }],
         objects: vec![node(ShapeDesc::Plane, 0, vec![TransformOp::Rotate { axis: Vec3::X, degrees: 90.0 }])],
         views: vec![],

@@ -288,6 +288,10 @@ pub struct Params {
     pub right: [f32; 4],
     pub up: [f32; 4],
     pub forward: [f32; 4],
+    /// Whitted: one pixel's step across and down the film (glint_core::footprint), for
+    /// textures filtered over a pixel's footprint.
+    pub pixel_dx: [f32; 4],
+    pub pixel_dy: [f32; 4],
     pub world_from_canonical: Mat4,
     pub env_from_world: Mat4,
     pub world_from_env: Mat4,
@@ -362,6 +366,8 @@ gpu_record!(pub PARAMS = Params as "Params" {
     right: Vec4 => right,
     up: Vec4 => up,
     forward: Vec4 => forward,
+    pixel_dx: Vec4 => pixel_dx,
+    pixel_dy: Vec4 => pixel_dy,
     world_from_canonical: Mat4 => world_from_canonical,
     env_from_world: Mat4 => env_from_world,
     world_from_env: Mat4 => world_from_env,

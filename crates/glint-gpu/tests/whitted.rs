@@ -188,6 +188,38 @@ fn blinn_highlights_and_textured_ambient_match_the_cpu() {
 }
 
 #[test]
+fn checkers_filtered_over_the_pixel_footprint_match_the_cpu() {
+    let Some(gpu) = gpu() else { return };
+    // A uv-mapped quad, so the mesh's footprint (least squares in its uv frame) is tested.
+    let quad = std::env::temp_dir().join(format!("glint-filtered-quad-{}.obj", std::process::id()));
+    std::fs::write(
+        &quad,
+        "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3 4/4\n",
+    )
+    .expect("temporary mesh");
+    // Fine checks to the horizon on an infinite plane, round a sphere's seam, over a
+    // cube's faces, through a CSG difference and on the quad: each shape's own uvs at
+    // the neighbouring pixels.
+    let source = format!(
+        "settings {{ max_depth 3 background [0.1 0.12 0.2] ambient 0.1 }}\n\
+         camera {{ eye [0 0.6 4] look_at [0 0.3 -4] fov 50 }}\n\
+         light point {{ position [1 2.5 2] color 0.9 }}\n\
+         mesh \"quad\" {{ file \"{quad}\" }}\n\
+         texture \"fine\" checker {{ even [0.9 0.8 0.2] odd [0.1 0.2 0.7] cells [16 16] filtered true }}\n\
+         material \"fine\" {{ diffuse 0.8 texture \"fine\" blend 1 repeat [4 4] specular 0.2 shininess 20 reflective 0.2 }}\n\
+         plane {{ material \"fine\" }}\n\
+         sphere {{ material \"fine\" scale 0.35 rotate [0 1 0] -90 translate [-0.8 0.35 0] }}\n\
+         cube {{ material \"fine\" scale 0.3 rotate [0 1 0] 30 translate [0.2 0.3 -0.5] }}\n\
+         difference {{ material \"fine\" sphere {{ scale 0.3 }} cube {{ scale 0.2 translate [0.2 0.2 0.2] }} translate [1 0.35 0.5] }}\n\
+         mesh_instance \"quad\" {{ material \"fine\" scale 0.3 rotate [0 1 0] 40 translate [0.4 0.3 1.2] }}\n",
+        quad = quad.display()
+    );
+    let scene = whitted(&source, 48, 32);
+    std::fs::remove_file(&quad).ok();
+    check("whitted filtered checkers", &scene, &gpu);
+}
+
+#[test]
 fn a_smooth_mesh_matches_the_cpu() {
     let Some(gpu) = gpu() else { return };
     // A low light grazes the coarse icosphere: its terminator needs the lifted shadow

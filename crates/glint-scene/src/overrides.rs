@@ -20,9 +20,11 @@ pub struct Overrides {
     pub width: Option<u32>,
     /// Image height in pixels.
     pub height: Option<u32>,
-    /// Samples per pixel along each axis; it replaces a total the scene set with `spp`.
+    /// Samples per pixel along each axis; it replaces a total the scene set with `spp`
+    /// and the scene's adaptive sampling.
     pub samples: Option<u32>,
-    /// Samples per pixel in total, for any integrator; wins over `samples`.
+    /// Samples per pixel in total, for any integrator; wins over `samples`, and replaces
+    /// the scene's adaptive sampling.
     pub spp: Option<u32>,
     /// The integrator; `Path` keeps a path-traced scene's settings, else takes the defaults.
     pub integrator: Option<IntegratorChoice>,
@@ -111,6 +113,11 @@ impl Overrides {
             s.spp = None;
         }
         s.spp = self.spp.or(s.spp);
+        if self.samples.is_some() || self.spp.is_some() {
+            // A count asked for is the count rendered: it replaces the scene's adaptive
+            // sampling too (unless `adaptive` is also given, just below).
+            s.adaptive = None;
+        }
         self.apply_integrator(&mut s.integrator);
         match &mut s.integrator {
             IntegratorDesc::Path(path) => self.apply_path(path, &mut s.max_depth),
@@ -160,5 +167,36 @@ impl Overrides {
             return Err(OverrideError::PathOnly(PathOnly::Sampler));
         }
         Ok(self.max_depth.unwrap_or(depth))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glint_core::desc::AdaptiveDesc;
+
+    fn adaptive_scene() -> SceneDesc {
+        let mut desc = SceneDesc::default();
+        desc.settings.adaptive = Some(AdaptiveDesc { min_samples: 1, max_samples: 8, threshold: 0.1 });
+        desc
+    }
+
+    #[test]
+    fn a_sample_count_asked_for_replaces_the_scenes_adaptive_sampling() {
+        for asked in
+            [Overrides { spp: Some(16), ..Default::default() }, Overrides { samples: Some(4), ..Default::default() }]
+        {
+            let mut desc = adaptive_scene();
+            asked.apply(&mut desc).unwrap();
+            assert_eq!(desc.settings.adaptive, None);
+        }
+        // Other overrides keep it, and an adaptive setting given beside a count wins.
+        let mut desc = adaptive_scene();
+        Overrides { width: Some(64), ..Default::default() }.apply(&mut desc).unwrap();
+        assert!(desc.settings.adaptive.is_some());
+        let own = AdaptiveDesc { min_samples: 2, max_samples: 32, threshold: 0.01 };
+        let mut desc = adaptive_scene();
+        Overrides { spp: Some(16), adaptive: Some(own), ..Default::default() }.apply(&mut desc).unwrap();
+        assert_eq!(desc.settings.adaptive, Some(own));
     }
 }

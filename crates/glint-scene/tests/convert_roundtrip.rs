@@ -180,7 +180,13 @@ fn everything(texture: &Path) -> SceneDesc {
         }),
     ];
     let textures = vec![
-        TextureDesc::Checker { name: "checks".into(), even: Vec3::ONE, odd: Vec3::ZERO, cells: Vec2::new(3.0, 5.0) },
+        TextureDesc::Checker {
+            name: "checks".into(),
+            even: Vec3::ONE,
+            odd: Vec3::ZERO,
+            cells: Vec2::new(3.0, 5.0),
+            filtered: true,
+        },
         image,
     ];
     let materials = vec![

@@ -171,7 +171,7 @@ fn camera_look_direction_and_defaults() {
 #[test]
 fn checker_texture_with_values_and_defaults() {
     let scene = parse(
-        "texture \"checks\" checker { even [0.9 0.9 0.9] odd [0.1 0.2 0.3] cells [8 4] }\n\
+        "texture \"checks\" checker { even [0.9 0.9 0.9] odd [0.1 0.2 0.3] cells [8 4] filtered true }\n\
          texture \"plain\" checker",
     );
     assert_eq!(
@@ -182,12 +182,14 @@ fn checker_texture_with_values_and_defaults() {
                 even: Vec3::splat(0.9),
                 odd: Vec3::new(0.1, 0.2, 0.3),
                 cells: Vec2::new(8.0, 4.0),
+                filtered: true,
             },
             TextureDesc::Checker {
                 name: "plain".into(),
                 even: Vec3::splat(0.9),
                 odd: Vec3::splat(0.1),
                 cells: Vec2::splat(8.0),
+                filtered: false,
             },
         ]
     );

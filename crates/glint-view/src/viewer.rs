@@ -431,6 +431,10 @@ impl Viewer {
         s.seed = self.base.seed.wrapping_add(index);
         let pattern = if t.anti_aliasing { SamplePattern::Jittered } else { SamplePattern::Grid };
         s.sampler = PixelSampler { pattern, per_axis: 1, seed: s.seed };
+        // Accumulated passes are one image's samples: pass k narrows filtered textures'
+        // footprint as k samples per pixel would, so the sum converges to what `glint
+        // render` gives with many samples, and the first pass alone shows no moiré.
+        s.footprint_scale = if t.anti_aliasing { glint_core::footprint::footprint_scale(index + 1) } else { 1.0 };
         s
     }
 

@@ -23,7 +23,8 @@ fn default_viewer() -> Viewer {
 fn rendered(samples: u32, pattern: SamplePattern) -> Image {
     let mut desc: SceneDesc = glint_scene::default_scene();
     (desc.settings.width, desc.settings.height) = SIZE;
-    desc.settings.samples_per_axis = samples;
+    // As `glint render --samples N`: a count asked for replaces the scene's adaptive sampling.
+    (desc.settings.samples_per_axis, desc.settings.adaptive) = (samples, None);
     desc.settings.pattern = pattern;
     let scene = compile(&desc).unwrap();
     render(&scene, &|_, _| {}, &AtomicBool::new(false)).unwrap().0

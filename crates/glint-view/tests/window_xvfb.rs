@@ -111,10 +111,12 @@ fn expected(scene: &Path, inputs: &[Input]) -> Vec<u8> {
     viewer.image().encode8(Transfer::Srgb)
 }
 
-/// `glint render`'s image of `scene` at the test's size: one sample per pixel centre.
+/// `glint render --samples 1`'s image of `scene` at the test's size: one sample per
+/// pixel centre.
 fn rendered(scene: &Path) -> Vec<u8> {
     let mut desc = glint_scene::load_any(scene).unwrap().scene;
     (desc.settings.width, desc.settings.height) = (WIDTH, HEIGHT);
+    (desc.settings.samples_per_axis, desc.settings.spp, desc.settings.adaptive) = (1, None, None);
     let scene = glint_core::scene::compile(&desc).unwrap();
     let image: Image = render(&scene, &|_, _| {}, &AtomicBool::new(false)).unwrap().0;
     image.encode8(Transfer::Srgb)

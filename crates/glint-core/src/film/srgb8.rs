@@ -49,10 +49,22 @@ fn first_value_reaching(code: u8) -> f32 {
     f32::from_bits(low)
 }
 
-/// `(linear_to_srgb(c)·255 + 0.5) as u8`, by table.
-#[inline]
-pub fn encode(c: f32) -> u8 {
+/// `(linear_to_srgb(c)·255 + 0.5) as u8`, by table (what the tests check [`encoder`]'s
+/// function against).
+#[cfg(test)]
+fn encode(c: f32) -> u8 {
+    encode_with(tables(), c)
+}
+
+/// `(linear_to_srgb(c)·255 + 0.5) as u8`, by table: the function for a whole image, its
+/// tables fetched once rather than checked for their one-time initialization per value.
+pub fn encoder() -> impl Fn(f32) -> u8 + Copy {
     let t = tables();
+    move |c| encode_with(t, c)
+}
+
+#[inline]
+fn encode_with(t: &Tables, c: f32) -> u8 {
     // NaN and values at or below 0 give 0, values at or above 1 give 255.
     if c.is_nan() || c <= 0.0 {
         return 0;

@@ -26,8 +26,9 @@ pub trait Observer {
     fn ray(&mut self, _ray: &Ray, _kind: RayKind, _depth: u32, _hit: Option<&Hit>) {}
     /// A shadow ray toward a light sample, and the filter it found (0 = blocked).
     fn shadow_ray(&mut self, _ray: &Ray, _distance: f32, _filter: Vec3) {}
-    /// Light `light` (one of its samples) added these diffuse and specular terms.
-    fn light(&mut self, _light: usize, _diffuse: Vec3, _specular: Vec3) {}
+    /// Light `light` (one of its samples) added these diffuse and specular terms; the
+    /// specular one is `specular_formula` (Phong's or Blinn's).
+    fn light(&mut self, _light: usize, _diffuse: Vec3, _specular: Vec3, _specular_formula: &'static str) {}
     /// A named term of the equation (ambient, reflected, transmitted) and its value.
     fn term(&mut self, _name: &'static str, _value: Vec3) {}
     /// The ray opened last returns `color`.
@@ -134,10 +135,10 @@ impl Observer for RayTree {
         }
     }
 
-    fn light(&mut self, light: usize, diffuse: Vec3, specular: Vec3) {
+    fn light(&mut self, light: usize, diffuse: Vec3, specular: Vec3, specular_formula: &'static str) {
         if let Some(current) = self.current() {
             current.terms.push((format!("light {light} diffuse k_d·O_d·(n·l)"), diffuse));
-            current.terms.push((format!("light {light} specular k_s·O_s·(r·v)^n"), specular));
+            current.terms.push((format!("light {light} specular {specular_formula}"), specular));
         }
     }
 

@@ -127,12 +127,12 @@ fn direct_lighting(
     observer: &mut impl Observer,
 ) -> Vec3 {
     let features = scene.settings.features;
-    let texel =
-        (features.textures && m.texture != NO_TEXTURE).then(|| scene.texture(m.texture, hit.uv * m.texture_repeat));
+    let texel = (features.textures && m.texture != NO_TEXTURE)
+        .then(|| scene.texture_at_hit(m.texture, hit, m.texture_repeat, time));
     // Vertex colours tint the object's own colours (ambient and diffuse), not highlights.
     let diffuse = m.diffuse_with(texel) * hit.color;
     let mut color = scene.settings.ambient_light * m.ambient_with(texel) * hit.color;
-    observer.term("ambient L_a·k_a·O_a", color);
+    observer.term(m.ambient_formula(texel), color);
     // Seen from outside, a smooth mesh's shadow rays start on the surface its normals
     // describe (Hanika 2021), which removes the jagged self-shadow at the terminator.
     let outside = hit.geometric_normal.dot(n) >= 0.0;
@@ -167,7 +167,7 @@ fn direct_lighting(
             }
             let highlight = if m.specular == Vec3::ZERO { 0.0 } else { m.highlight(n, incidence.to_light, v) };
             let lit = filter * incidence.radiance;
-            observer.light(light_index, lit * diffuse * n_dot_l, lit * m.specular * highlight);
+            observer.light(light_index, lit * diffuse * n_dot_l, lit * m.specular * highlight, m.specular_formula());
             color += lit * (diffuse * n_dot_l + m.specular * highlight);
         }
     }

@@ -81,15 +81,16 @@ fn colour_value(scene: &RenderScene, view: DebugView, px: u32, py: u32) -> Vec3 
     match view {
         DebugView::Normal => (hit.normal + Vec3::ONE) * 0.5,
         DebugView::Uv => Vec3::new(hit.uv.x.rem_euclid(1.0), hit.uv.y.rem_euclid(1.0), 0.0),
-        _ => albedo(scene, &hit),
+        _ => albedo(scene, &hit, ray.time),
     }
 }
 
-/// The diffuse colour at `hit`, textured as the Whitted integrator textures it.
-fn albedo(scene: &RenderScene, hit: &Hit) -> Vec3 {
+/// The diffuse colour at `hit` (met at `time`), textured as the Whitted integrator
+/// textures it.
+fn albedo(scene: &RenderScene, hit: &Hit, time: f32) -> Vec3 {
     let m = &scene.materials[hit.material as usize];
     let texel = (scene.settings.features.textures && m.texture != NO_TEXTURE)
-        .then(|| scene.texture(m.texture, hit.uv * m.texture_repeat));
+        .then(|| scene.texture_at_hit(m.texture, hit, m.texture_repeat, time));
     m.diffuse_with(texel) * hit.color
 }
 

@@ -339,12 +339,13 @@ fn path_sample(scene: &RenderScene, px: u32, py: u32, index: u32, counters: &mut
     Traced { fx, fy, value, aov, culprit: counters.non_finite_at.take() }
 }
 
-/// The AOVs of a Whitted camera ray from its first hit: the diffuse colour (textured).
+/// The AOVs of a Whitted camera ray from its first hit: the diffuse colour (textured as
+/// the shading is).
 fn whitted_aov(scene: &RenderScene, ray: &Ray, hit: Option<&crate::scene::Hit>) -> Aov {
     let Some(hit) = hit else { return Aov::default() };
     let m = &scene.materials[hit.material as usize];
     let texel = (scene.settings.features.textures && m.texture != crate::material::NO_TEXTURE)
-        .then(|| scene.texture(m.texture, hit.uv * m.texture_repeat));
+        .then(|| scene.texture_at_hit(m.texture, hit, m.texture_repeat, ray.time));
     Aov { albedo: m.diffuse_with(texel) * hit.color, normal: hit.normal, depth: hit.t * ray.dir.length() }
 }
 

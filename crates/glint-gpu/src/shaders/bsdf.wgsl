@@ -26,6 +26,7 @@ const WRAP_REPEAT: u32 = 0u;
 const WRAP_CLAMP: u32 = 1u;
 const WRAP_MIRROR: u32 = 2u;
 const TEXTURE_NEAREST: u32 = 16u;
+const TEXTURE_FILTERED: u32 = 32u;
 
 // glint_core::texture::wrap_index: texel i of n along one axis, wrapped by `mode`.
 fn wrap_index(i: i32, n: i32, mode: u32) -> i32 {
@@ -89,6 +90,45 @@ fn texture_sample(index: u32, uv: vec2<f32>) -> vec3<f32> {
     let top = mix(texel(t, i, j), texel(t, i + 1, j), fx);
     let bottom = mix(texel(t, i, j + 1), texel(t, i + 1, j + 1), fx);
     return mix(top, bottom, fy);
+}
+
+fn texture_is_filtered(index: u32) -> bool {
+    return (textures[index].flags & TEXTURE_FILTERED) != 0u;
+}
+
+// glint_core::texture::box_filtered_square_wave: the mean over [x − w/2, x + w/2] of the
+// wave that is +1 on even cells and −1 on odd ones.
+fn box_filtered_square_wave(x: f32, w: f32) -> f32 {
+    let cell = floor(x);
+    let point = select(-1.0, 1.0, cell - 2.0 * floor(cell / 2.0) == 0.0);
+    if w <= 1e-4 * max(abs(x), 1.0) {
+        return point;
+    }
+    if w >= 1e4 {
+        return 0.0;
+    }
+    let hi = x + 0.5 * w;
+    let lo = x - 0.5 * w;
+    let integral_hi = 1.0 - abs(1.0 - (hi - 2.0 * floor(hi / 2.0)));
+    let integral_lo = 1.0 - abs(1.0 - (lo - 2.0 * floor(lo / 2.0)));
+    return clamp((integral_hi - integral_lo) / w, -1.0, 1.0);
+}
+
+// glint_core::texture::Texture::sample_over: the texture averaged over the footprint whose
+// uv steps to the neighbouring pixels are `steps` (.xy across, .zw down); `bounded` false
+// for an unbounded footprint (the pattern's mean).
+fn texture_sample_over(index: u32, uv: vec2<f32>, steps: vec4<f32>, bounded: bool) -> vec3<f32> {
+    let t = textures[index];
+    if t.kind != 1u || (t.flags & TEXTURE_FILTERED) == 0u {
+        return texture_sample(index, uv);
+    }
+    var sign = 0.0;
+    if bounded {
+        let width = (abs(steps.xy) + abs(steps.zw)) * v2(t.cells);
+        let cell = uv * v2(t.cells);
+        sign = box_filtered_square_wave(cell.x, width.x) * box_filtered_square_wave(cell.y, width.y);
+    }
+    return v3(t.even) * (0.5 + 0.5 * sign) + v3(t.odd) * (0.5 - 0.5 * sign);
 }
 
 // ---- Fresnel (glint_core::bsdf::fresnel) ----

@@ -797,6 +797,119 @@ fn terminator_point(
     return out;
 }
 
+// The surface of a shape other than a mesh at `h`, in object space
+// (glint_core::shape::Shape::surface_with).
+fn instance_surface(inst: Instance, local: Ray, h: ShapeHit) -> SurfacePoint {
+    if QUADRICS && inst.kind == KIND_QUADRIC {
+        return quadric_surface(bitcast<u32>(inst.param), local, h);
+    } else if TORI && inst.kind == KIND_TORUS {
+        return torus_surface(inst.param, local, h);
+    } else if CSG_SHAPES && inst.kind == KIND_CSG {
+        return csg_surface(local, h);
+    } else if SOLVED_SHAPES && inst.kind == KIND_SUPERELLIPSOID {
+        return superellipsoid_surface(bitcast<u32>(inst.param), local, h);
+    } else if IMPLICITS && inst.kind == KIND_IMPLICIT {
+        return implicit_surface(bitcast<u32>(inst.param), local, h);
+    } else if BLOBS && inst.kind == KIND_BLOB {
+        return blob_surface(bitcast<u32>(inst.param), local, h);
+    }
+    return analytic_surface(inst.kind, local, h);
+}
+
+// (∂p/∂u, ∂p/∂v) of a triangle from its corners and uvs (glint_core::mesh::Mesh::uv_frame);
+// `ok` false where the uvs give it no area.
+struct UvFrame {
+    dpdu: vec3<f32>,
+    dpdv: vec3<f32>,
+    ok: bool,
+}
+
+fn mesh_uv(mesh: GpuMesh, i: u32) -> vec2<f32> {
+    return vec2<f32>(floats[mesh.uv_offset + 2u * i], floats[mesh.uv_offset + 2u * i + 1u]);
+}
+
+fn uv_frame(corners: array<vec3<f32>, 3>, uvs: array<vec2<f32>, 3>) -> UvFrame {
+    let du1 = uvs[1] - uvs[0];
+    let du2 = uvs[2] - uvs[0];
+    let det = du1.x * du2.y - du1.y * du2.x;
+    if abs(det) < 1e-12 {
+        return UvFrame(vec3<f32>(0.0), vec3<f32>(0.0), false);
+    }
+    let e1 = corners[1] - corners[0];
+    let e2 = corners[2] - corners[0];
+    return UvFrame((e1 * du2.y - e2 * du1.y) / det, (e2 * du1.x - e1 * du2.x) / det, true);
+}
+
+// glint_core::footprint::PixelSpacing::surface_steps, one neighbour: where the ray through
+// the pixel `offset` away meets the plane through `eye + d` of normal `n`, less that
+// point; .w is 0 where it never meets the plane ahead.
+fn neighbour_step(d: vec3<f32>, n: vec3<f32>, offset: vec3<f32>) -> vec4<f32> {
+    let dir = d + dot(d, params.forward.xyz) * offset;
+    let t = dot(d, n) / dot(dir, n);
+    let step = t * dir - d;
+    let ok = t > 0.0 && all(abs(step) < vec3<f32>(3.0e38));
+    return vec4<f32>(step, select(0.0, 1.0, ok));
+}
+
+// glint_core::scene::RenderScene::uv_steps: the steps in uv from `hit` to where the
+// neighbouring pixels see its surface, .xy across and .zw down; `bounded` false where
+// the footprint is unbounded.
+struct UvSteps {
+    steps: vec4<f32>,
+    bounded: bool,
+}
+
+fn uv_steps(hit: Hit, time: f32) -> UvSteps {
+    let none = UvSteps(vec4<f32>(0.0), false);
+    let d = hit.point - params.eye.xyz;
+    if !(dot(d, params.forward.xyz) > 0.0) {
+        return none;
+    }
+    let n = hit.geometric_normal;
+    let sx = neighbour_step(d, n, params.pixel_dx.xyz);
+    let sy = neighbour_step(d, n, params.pixel_dy.xyz);
+    if sx.w == 0.0 || sy.w == 0.0 {
+        return none;
+    }
+    let inst = instances[hit.instance];
+    let xform = instance_xform(inst, time);
+    if inst.kind == KIND_MESH {
+        let mesh = meshes[bitcast<u32>(inst.param)];
+        if mesh.uv_offset == NO_INDEX {
+            return UvSteps(vec4<f32>(0.0), true);
+        }
+        let tri = mesh.index_offset + 3u * hit.part;
+        let i = vec3<u32>(words[tri], words[tri + 1u], words[tri + 2u]);
+        let corners = array<vec3<f32>, 3>(mesh_vertex(mesh, i.x), mesh_vertex(mesh, i.y), mesh_vertex(mesh, i.z));
+        let frame = uv_frame(corners, array<vec2<f32>, 3>(mesh_uv(mesh, i.x), mesh_uv(mesh, i.y), mesh_uv(mesh, i.z)));
+        if !frame.ok {
+            return UvSteps(vec4<f32>(0.0), true);
+        }
+        // step = a·∂p/∂u + b·∂p/∂v, solved for (a, b) by least squares.
+        let u = (xform.world_from_object * vec4<f32>(frame.dpdu, 0.0)).xyz;
+        let v = (xform.world_from_object * vec4<f32>(frame.dpdv, 0.0)).xyz;
+        let uu = dot(u, u);
+        let uv = dot(u, v);
+        let vv = dot(v, v);
+        let det = uu * vv - uv * uv;
+        let ax = vec2<f32>(vv * dot(u, sx.xyz) - uv * dot(v, sx.xyz), uu * dot(v, sx.xyz) - uv * dot(u, sx.xyz)) / det;
+        let ay = vec2<f32>(vv * dot(u, sy.xyz) - uv * dot(v, sy.xyz), uu * dot(v, sy.xyz) - uv * dot(u, sy.xyz)) / det;
+        let steps = vec4<f32>(ax, ay);
+        return UvSteps(steps, all(abs(steps) < vec4<f32>(3.0e38)));
+    }
+    // Analytic shapes give uv from the point: the uv at each neighbour's point on the
+    // tangent plane is the shape's own answer. Bounded shapes' uvs wrap at a seam, so
+    // the step across it is the short way round; the plane's run on unbounded.
+    let h = shape_hit(0.0, hit.part);
+    let ux = instance_surface(inst, object_ray(xform, Ray(hit.point + sx.xyz, -hit.normal, time)), h).uv - hit.uv;
+    let uy = instance_surface(inst, object_ray(xform, Ray(hit.point + sy.xyz, -hit.normal, time)), h).uv - hit.uv;
+    var steps = vec4<f32>(ux, uy);
+    if inst.kind != KIND_PLANE {
+        steps -= round(steps);
+    }
+    return UvSteps(steps, all(abs(steps) < vec4<f32>(3.0e38)));
+}
+
 fn hit_from(r: Ray, found: SceneHit) -> Hit {
     let inst = instances[found.instance];
     let xform = instance_xform(inst, r.time);
@@ -809,22 +922,9 @@ fn hit_from(r: Ray, found: SceneHit) -> Hit {
     hit.part = h.part;
     let to_world = xform.world_from_object;
     if inst.kind != KIND_MESH {
-        var s: SurfacePoint;
-        if QUADRICS && inst.kind == KIND_QUADRIC {
-            s = quadric_surface(bitcast<u32>(inst.param), local, h);
-        } else if TORI && inst.kind == KIND_TORUS {
-            s = torus_surface(inst.param, local, h);
-        } else if CSG_SHAPES && inst.kind == KIND_CSG {
-            s = csg_surface(local, h);
+        let s = instance_surface(inst, local, h);
+        if CSG_SHAPES && inst.kind == KIND_CSG {
             hit.material = csg_material(h.part);
-        } else if SOLVED_SHAPES && inst.kind == KIND_SUPERELLIPSOID {
-            s = superellipsoid_surface(bitcast<u32>(inst.param), local, h);
-        } else if IMPLICITS && inst.kind == KIND_IMPLICIT {
-            s = implicit_surface(bitcast<u32>(inst.param), local, h);
-        } else if BLOBS && inst.kind == KIND_BLOB {
-            s = blob_surface(bitcast<u32>(inst.param), local, h);
-        } else {
-            s = analytic_surface(inst.kind, local, h);
         }
         let n = normalize_or(normal_to_world(xform, s.normal), vec3<f32>(0.0, 1.0, 0.0));
         hit.point = (to_world * vec4<f32>(s.point, 1.0)).xyz;
@@ -862,25 +962,19 @@ fn hit_from(r: Ray, found: SceneHit) -> Hit {
         }
     }
     var uv = vec2<f32>(bary.y, bary.z);
-    // ∂p/∂u and ∂p/∂v of the triangle, for a normal map (glint_core::mesh::Mesh::uv_frame).
-    var dpdu = vec3<f32>(0.0);
-    var dpdv = vec3<f32>(0.0);
-    var has_uv_frame = false;
+    // ∂p/∂u and ∂p/∂v of the triangle, for a normal map.
+    var frame = UvFrame(vec3<f32>(0.0), vec3<f32>(0.0), false);
     if mesh.uv_offset != NO_INDEX {
-        let u0 = vec2<f32>(floats[mesh.uv_offset + 2u * i0], floats[mesh.uv_offset + 2u * i0 + 1u]);
-        let u1 = vec2<f32>(floats[mesh.uv_offset + 2u * i1], floats[mesh.uv_offset + 2u * i1 + 1u]);
-        let u2 = vec2<f32>(floats[mesh.uv_offset + 2u * i2], floats[mesh.uv_offset + 2u * i2 + 1u]);
-        uv = bary.x * u0 + bary.y * u1 + bary.z * u2;
+        let uvs = array<vec2<f32>, 3>(mesh_uv(mesh, i0), mesh_uv(mesh, i1), mesh_uv(mesh, i2));
+        uv = bary.x * uvs[0] + bary.y * uvs[1] + bary.z * uvs[2];
         // The frame costs a division: only a normal-mapped material needs it.
-        let du1 = u1 - u0;
-        let du2 = u2 - u0;
-        let det = du1.x * du2.y - du1.y * du2.x;
-        if materials[hit.material].normal_texture != NO_TEXTURE && abs(det) >= 1e-12 {
-            dpdu = ((b - a) * du2.y - (c - a) * du1.y) / det;
-            dpdv = ((c - a) * du1.x - (b - a) * du2.x) / det;
-            has_uv_frame = true;
+        if materials[hit.material].normal_texture != NO_TEXTURE {
+            frame = uv_frame(array<vec3<f32>, 3>(a, b, c), uvs);
         }
     }
+    let dpdu = frame.dpdu;
+    let dpdv = frame.dpdv;
+    let has_uv_frame = frame.ok;
     var n = normalize_or(normal_to_world(xform, normal), vec3<f32>(0.0, 1.0, 0.0));
     let shading = materials[hit.material];
     if shading.normal_texture != NO_TEXTURE && has_uv_frame {

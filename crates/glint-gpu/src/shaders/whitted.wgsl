@@ -255,6 +255,17 @@ struct Shading {
     phong: vec3<f32>,
 }
 
+// glint_core::scene::RenderScene::texture_at_hit: averaged over the pixel's footprint
+// when the texture is filtered.
+fn texture_at_hit(index: u32, hit: Hit, repeat: vec2<f32>, time: f32) -> vec3<f32> {
+    let uv = hit.uv * repeat;
+    if !texture_is_filtered(index) {
+        return texture_sample(index, uv);
+    }
+    let footprint = uv_steps(hit, time);
+    return texture_sample_over(index, uv, footprint.steps * vec4<f32>(repeat, repeat), footprint.bounded);
+}
+
 fn shading_of(entry: Pending, r: Ray, hit: Hit) -> Shading {
     var s: Shading;
     s.entry = entry;
@@ -268,7 +279,7 @@ fn shading_of(entry: Pending, r: Ray, hit: Hit) -> Shading {
     var diffuse = v3(m.diffuse);
     var ambient = v3(m.ambient);
     if feature(FEATURE_TEXTURES) && m.texture != NO_TEXTURE {
-        let texel = texture_sample(m.texture, hit.uv * v2(m.texture_repeat));
+        let texel = texture_at_hit(m.texture, hit, v2(m.texture_repeat), r.time);
         diffuse = (1.0 - m.blend) * diffuse + m.blend * m.kd * texel;
         ambient = (1.0 - m.ambient_blend) * ambient + m.ambient_blend * m.ka * texel;
     }

@@ -146,7 +146,7 @@ impl Reader {
             ..MaterialDesc::default()
         };
         if let Some((even, odd, cells, repeat)) = surface.checker {
-            let texture = TextureDesc::Checker { name: String::new(), even, odd, cells };
+            let texture = TextureDesc::Checker { name: String::new(), even, odd, cells, filtered: false };
             desc.texture = Some(self.add_texture(texture, &name));
             desc.blend = 1.0;
             desc.texture_repeat = repeat;

@@ -184,7 +184,7 @@ fn checkerboard(p: &Plugin) -> Result<TextureDesc, SceneError> {
         return Err(p.param_error("to_uv", "the offset must be a multiple of 0.5 (whole squares)"));
     };
     let (even, odd) = if (dx + dy).rem_euclid(2) == 0 { (color0, color1) } else { (color1, color0) };
-    Ok(TextureDesc::Checker { name: texture_name(p), even, odd, cells: 2.0 * scale })
+    Ok(TextureDesc::Checker { name: texture_name(p), even, odd, cells: 2.0 * scale, filtered: false })
 }
 
 #[cfg(test)]

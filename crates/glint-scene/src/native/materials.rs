@@ -114,24 +114,26 @@ pub fn texture(src: &Source, name: &str, kind: &Node) -> Result<TextureDesc> {
         let mut even = Vec3::splat(0.9);
         let mut odd = Vec3::splat(0.1);
         let mut cells = Vec2::splat(8.0);
+        let mut filtered = false;
         for prop in kind.children() {
             seen.once(src, prop, "checker")?;
             match prop.name.as_str() {
                 "even" => even = args::color(src, prop)?,
                 "odd" => odd = args::color(src, prop)?,
                 "cells" => cells = args::vec2_positive(src, prop)?,
+                "filtered" => filtered = args::boolean(src, prop)?,
                 _ => {
                     return Err(args::unknown(
                         src,
                         prop,
                         "property",
                         "in 'texture checker'",
-                        &["even", "odd", "cells"],
+                        &["even", "odd", "cells", "filtered"],
                     ));
                 }
             }
         }
-        return Ok(TextureDesc::Checker { name: name.to_owned(), even, odd, cells });
+        return Ok(TextureDesc::Checker { name: name.to_owned(), even, odd, cells, filtered });
     }
     let mut file = None;
     let mut sampling = ImageSampling::default();

@@ -293,12 +293,13 @@ impl Writer {
         linear: bool,
     ) -> Result<(), WriteError> {
         let line = match t {
-            TextureDesc::Checker { even, odd, cells, .. } => format!(
-                "texture {} checker {{ even {} odd {} cells {} }}",
+            TextureDesc::Checker { even, odd, cells, filtered, .. } => format!(
+                "texture {} checker {{ even {} odd {} cells {}{} }}",
                 quote(name),
                 vec3(*even, "checker even")?,
                 vec3(*odd, "checker odd")?,
-                vec2(*cells, "checker cells")?
+                vec2(*cells, "checker cells")?,
+                if *filtered { " filtered true" } else { "" }
             ),
             TextureDesc::Image { path, sampling, .. } => {
                 if path.is_empty() {
@@ -918,9 +919,9 @@ pub fn difference(a: &SceneDesc, b: &SceneDesc) -> Option<String> {
     for (x, y) in a.textures.iter().zip(&b.textures) {
         let same = match (x, y) {
             (
-                TextureDesc::Checker { even, odd, cells, .. },
-                TextureDesc::Checker { even: e2, odd: o2, cells: c2, .. },
-            ) => (even, odd, cells) == (e2, o2, c2),
+                TextureDesc::Checker { even, odd, cells, filtered, .. },
+                TextureDesc::Checker { even: e2, odd: o2, cells: c2, filtered: f2, .. },
+            ) => (even, odd, cells, filtered) == (e2, o2, c2, f2),
             (
                 TextureDesc::Image { width, height, texels, .. },
                 TextureDesc::Image { width: w2, height: h2, texels: t2, .. },

@@ -204,6 +204,6 @@ fn checkerboard(r: &mut Reader, name: &str, float: bool, p: &Params) -> Result<T
     };
     let even = color("tex1", 1.0)?;
     let odd = color("tex2", 0.0)?;
-    r.scene.textures.push(TextureDesc::Checker { name: name.to_owned(), even, odd, cells: scale });
+    r.scene.textures.push(TextureDesc::Checker { name: name.to_owned(), even, odd, cells: scale, filtered: false });
     Ok(TextureRef::Scaled(r.scene.textures.len() - 1, Vec3::ONE))
 }
