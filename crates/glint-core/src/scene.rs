@@ -68,6 +68,19 @@ pub struct Settings {
     pub footprint_scale: f32,
 }
 
+impl Settings {
+    /// The footprint for sample `index` of a pixel. Adaptive sampling cannot know how
+    /// many samples a pixel will take, so sample k is filtered as one of k + 1: a pixel
+    /// that stops at one sample is filtered over its whole area, one that goes on to
+    /// many converges to the narrow footprint of many samples.
+    pub fn sample_footprint(&self, index: u32) -> f32 {
+        match self.adaptive {
+            Some(_) => crate::footprint::footprint_scale(index + 1),
+            None => self.footprint_scale,
+        }
+    }
+}
+
 /// Everything a backend needs, as flat arrays of plain records.
 ///
 /// `instances[..bounded_count]` are ordered as the BVH's leaves expect; the rest are
@@ -770,23 +783,24 @@ impl RenderScene {
     }
 
     /// Texture `index` where a ray at `time` met `hit`, its uv scaled by `repeat`: the
-    /// texture's mean over the pixel's footprint when it is filtered, else its value at
-    /// the point.
-    pub fn texture_at_hit(&self, index: u32, hit: &Hit, repeat: Vec2, time: f32) -> Vec3 {
+    /// texture's mean over the pixel's footprint (`footprint_scale` pixels across) when it
+    /// is filtered, else its value at the point.
+    pub fn texture_at_hit(&self, index: u32, hit: &Hit, repeat: Vec2, time: f32, footprint_scale: f32) -> Vec3 {
         let texture = &self.textures[index as usize];
         let uv = hit.uv * repeat;
         if !texture.is_filtered() {
             return texture.sample(uv, &self.texels);
         }
-        let steps = self.uv_steps(hit, time).map(|steps| steps.map(|step| step * repeat));
+        let steps = self.uv_steps(hit, time, footprint_scale).map(|steps| steps.map(|step| step * repeat));
         texture.sample_over(uv, steps, &self.texels)
     }
 
     /// The steps in uv from `hit` to where the neighbouring pixels see its surface (see
-    /// [`crate::footprint`]); `None` where the footprint is unbounded.
-    pub fn uv_steps(&self, hit: &Hit, time: f32) -> Option<[Vec2; 2]> {
+    /// [`crate::footprint`]), the pixels `footprint_scale` of a pixel apart; `None` where
+    /// the footprint is unbounded.
+    pub fn uv_steps(&self, hit: &Hit, time: f32, footprint_scale: f32) -> Option<[Vec2; 2]> {
         let s = &self.settings;
-        let spacing = PixelSpacing::new(&self.camera, s.width, s.height, s.footprint_scale);
+        let spacing = PixelSpacing::new(&self.camera, s.width, s.height, footprint_scale);
         let steps = spacing.surface_steps(hit.point, hit.geometric_normal)?;
         let inst = &self.instances[hit.instance as usize];
         let xf = self.transform_at(inst, time);

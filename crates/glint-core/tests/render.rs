@@ -563,7 +563,7 @@ fn footprints_in_uv_take_the_short_way_across_a_spheres_seam() {
             let film_x = 2.0 * (x as f32 + 0.5) / 80.0 - 1.0;
             let ray = scene.camera.ray(film_x, 0.0, Vec2::ZERO);
             if let Some(hit) = scene.intersect(&ray, f32::INFINITY) {
-                let steps = scene.uv_steps(&hit, 0.0).expect("a bounded footprint on a sphere seen whole");
+                let steps = scene.uv_steps(&hit, 0.0, 1.0).expect("a bounded footprint on a sphere seen whole");
                 largest = largest.max(steps[0].length()).max(steps[1].length());
             }
         }
@@ -571,4 +571,15 @@ fn footprints_in_uv_take_the_short_way_across_a_spheres_seam() {
         // 1/80 in u, more toward the rim.
         assert!(largest > 0.005 && largest < 0.2, "turned {degrees}°: largest uv step {largest}");
     }
+}
+
+#[test]
+fn adaptive_samples_narrow_the_footprint_as_their_count_grows() {
+    let mut desc = checkered_floor(true, 4);
+    let uniform = compile(&desc).expect("valid scene").settings;
+    assert_eq!([uniform.sample_footprint(0), uniform.sample_footprint(3)], [0.5, 0.5], "1/√4 for every sample");
+    desc.settings.adaptive = Some(AdaptiveDesc { min_samples: 1, max_samples: 64, threshold: 0.05 });
+    let adaptive = compile(&desc).expect("valid scene").settings;
+    let scales: Vec<f32> = [0, 3, 15, 63].iter().map(|&i| adaptive.sample_footprint(i)).collect();
+    assert_eq!(scales, [1.0, 0.5, 0.25, 0.125], "sample k as one of k + 1, at least an eighth");
 }

@@ -289,7 +289,8 @@ pub struct Params {
     pub up: [f32; 4],
     pub forward: [f32; 4],
     /// Whitted: one pixel's step across and down the film (glint_core::footprint), for
-    /// textures filtered over a pixel's footprint.
+    /// textures filtered over a pixel's footprint; `pixel_dx[3]` is the footprint's
+    /// scale in a uniform render (`Settings::footprint_scale`).
     pub pixel_dx: [f32; 4],
     pub pixel_dy: [f32; 4],
     pub world_from_canonical: Mat4,

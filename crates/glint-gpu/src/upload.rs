@@ -318,6 +318,6 @@ pub(crate) fn set_view(p: &mut Params, scene: &RenderScene) {
     (p.aperture_radius, p.focal_distance) = (c.aperture_radius, c.focal_distance);
     (p.eye, p.right, p.up, p.forward) = (vec4(c.eye), vec4(c.right), vec4(c.up), vec4(c.forward));
     p.world_from_canonical = c.world_from_canonical;
-    let spacing = glint_core::footprint::PixelSpacing::new(c, s.width, s.height, s.footprint_scale);
-    (p.pixel_dx, p.pixel_dy) = (vec4(spacing.dx), vec4(spacing.dy));
+    let spacing = glint_core::footprint::PixelSpacing::new(c, s.width, s.height, 1.0);
+    (p.pixel_dx, p.pixel_dy) = (spacing.dx.extend(s.footprint_scale).to_array(), vec4(spacing.dy));
 }

@@ -214,9 +214,12 @@ fn checkers_filtered_over_the_pixel_footprint_match_the_cpu() {
          mesh_instance \"quad\" {{ material \"fine\" scale 0.3 rotate [0 1 0] 40 translate [0.4 0.3 1.2] }}\n",
         quad = quad.display()
     );
-    let scene = whitted(&source, 48, 32);
+    let mut scene = whitted(&source, 48, 32);
     std::fs::remove_file(&quad).ok();
     check("whitted filtered checkers", &scene, &gpu);
+    // Adaptive sampling narrows the footprint sample by sample, on both backends.
+    scene.settings.adaptive = Some(glint_core::desc::AdaptiveDesc { min_samples: 1, max_samples: 8, threshold: 0.05 });
+    check("whitted filtered checkers, adaptive", &scene, &gpu);
 }
 
 #[test]

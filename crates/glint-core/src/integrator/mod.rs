@@ -7,11 +7,15 @@ pub mod whitted;
 use crate::sampling::Rng;
 
 /// What one camera sample carries through its whole ray tree: its own random stream
-/// (derived from pixel, sample index and seed) and its work counters.
+/// (derived from pixel, sample index and seed), its work counters, and how much of a
+/// pixel its filtered textures average over.
 #[derive(Clone, Debug)]
 pub struct TraceContext {
     pub counters: Counters,
     pub rng: Rng,
+    /// The pixel footprint as a fraction of a pixel
+    /// ([`crate::scene::Settings::sample_footprint`]).
+    pub footprint_scale: f32,
 }
 
 /// Work counted while tracing, summed per tile (no shared atomics in the hot path).

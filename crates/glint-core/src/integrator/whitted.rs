@@ -128,7 +128,7 @@ fn direct_lighting(
 ) -> Vec3 {
     let features = scene.settings.features;
     let texel = (features.textures && m.texture != NO_TEXTURE)
-        .then(|| scene.texture_at_hit(m.texture, hit, m.texture_repeat, time));
+        .then(|| scene.texture_at_hit(m.texture, hit, m.texture_repeat, time, ctx.footprint_scale));
     // Vertex colours tint the object's own colours (ambient and diffuse), not highlights.
     let diffuse = m.diffuse_with(texel) * hit.color;
     let mut color = scene.settings.ambient_light * m.ambient_with(texel) * hit.color;

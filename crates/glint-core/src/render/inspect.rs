@@ -90,7 +90,7 @@ fn colour_value(scene: &RenderScene, view: DebugView, px: u32, py: u32) -> Vec3 
 fn albedo(scene: &RenderScene, hit: &Hit, time: f32) -> Vec3 {
     let m = &scene.materials[hit.material as usize];
     let texel = (scene.settings.features.textures && m.texture != NO_TEXTURE)
-        .then(|| scene.texture_at_hit(m.texture, hit, m.texture_repeat, time));
+        .then(|| scene.texture_at_hit(m.texture, hit, m.texture_repeat, time, scene.settings.footprint_scale));
     m.diffuse_with(texel) * hit.color
 }
 

@@ -286,7 +286,11 @@ fn uniform_tile(scene: &RenderScene, tile: (u32, u32, u32, u32), film: &mut Tile
                 for (k, sample) in samples.iter_mut().enumerate().take(run) {
                     let value = whitted::shade(scene, &sample.ray, hits[k], 0, Vec3::ONE, &mut sample.ctx);
                     counters.rays += sample.ctx.counters.rays;
-                    let aov = if s.aovs { whitted_aov(scene, &sample.ray, hits[k].as_ref()) } else { Aov::default() };
+                    let aov = if s.aovs {
+                        whitted_aov(scene, &sample.ray, hits[k].as_ref(), sample.ctx.footprint_scale)
+                    } else {
+                        Aov::default()
+                    };
                     let culprit = sample.ctx.counters.non_finite_at;
                     values[k * count + index as usize] = Traced { fx: sample.fx, fy: sample.fy, value, aov, culprit };
                 }
@@ -341,11 +345,11 @@ fn path_sample(scene: &RenderScene, px: u32, py: u32, index: u32, counters: &mut
 
 /// The AOVs of a Whitted camera ray from its first hit: the diffuse colour (textured as
 /// the shading is).
-fn whitted_aov(scene: &RenderScene, ray: &Ray, hit: Option<&crate::scene::Hit>) -> Aov {
+fn whitted_aov(scene: &RenderScene, ray: &Ray, hit: Option<&crate::scene::Hit>, footprint_scale: f32) -> Aov {
     let Some(hit) = hit else { return Aov::default() };
     let m = &scene.materials[hit.material as usize];
     let texel = (scene.settings.features.textures && m.texture != crate::material::NO_TEXTURE)
-        .then(|| scene.texture_at_hit(m.texture, hit, m.texture_repeat, ray.time));
+        .then(|| scene.texture_at_hit(m.texture, hit, m.texture_repeat, ray.time, footprint_scale));
     Aov { albedo: m.diffuse_with(texel) * hit.color, normal: hit.normal, depth: hit.t * ray.dir.length() }
 }
 
@@ -362,8 +366,11 @@ struct CameraSample {
 fn camera_sample(scene: &RenderScene, sampler: &PixelSampler, px: u32, py: u32, index: u32) -> CameraSample {
     let offset = sampler.offset(px, py, index);
     let (fx, fy) = (px as f32 + offset.x, py as f32 + offset.y);
-    let mut ctx =
-        TraceContext { counters: Counters::default(), rng: Rng::new(hash(&[px, py, index, scene.settings.seed])) };
+    let mut ctx = TraceContext {
+        counters: Counters::default(),
+        rng: Rng::new(hash(&[px, py, index, scene.settings.seed])),
+        footprint_scale: scene.settings.sample_footprint(index),
+    };
     let lens = Vec2::new(ctx.rng.next_f32(), ctx.rng.next_f32());
     let ray = camera_ray(scene, fx, fy, lens, &mut ctx);
     CameraSample { fx, fy, ray, ctx }
@@ -386,7 +393,11 @@ fn trace_sample(
     let hit = scene.intersect(&sample.ray, f32::INFINITY);
     let value = whitted::shade(scene, &sample.ray, hit, 0, Vec3::ONE, &mut sample.ctx);
     counters.rays += sample.ctx.counters.rays;
-    let aov = if scene.settings.aovs { whitted_aov(scene, &sample.ray, hit.as_ref()) } else { Aov::default() };
+    let aov = if scene.settings.aovs {
+        whitted_aov(scene, &sample.ray, hit.as_ref(), sample.ctx.footprint_scale)
+    } else {
+        Aov::default()
+    };
     Traced { fx: sample.fx, fy: sample.fy, value, aov, culprit: sample.ctx.counters.non_finite_at }
 }
 
@@ -465,7 +476,11 @@ pub fn render_preview(scene: &RenderScene, block: u32) -> Image {
                         let mut counters = Counters::default();
                         return finite_or_black(path_sample(scene, cx as u32, cy as u32, 0, &mut counters).value);
                     }
-                    let mut ctx = TraceContext { counters: Counters::default(), rng: Rng::new(hash(&[bx, by])) };
+                    // One sample stands for a block of pixels: filtered textures average
+                    // over all of it.
+                    let footprint_scale = block as f32;
+                    let mut ctx =
+                        TraceContext { counters: Counters::default(), rng: Rng::new(hash(&[bx, by])), footprint_scale };
                     trace_film_point(scene, cx, cy, Vec2::splat(0.5), &mut ctx)
                 })
                 .collect()

@@ -852,22 +852,22 @@ fn neighbour_step(d: vec3<f32>, n: vec3<f32>, offset: vec3<f32>) -> vec4<f32> {
 }
 
 // glint_core::scene::RenderScene::uv_steps: the steps in uv from `hit` to where the
-// neighbouring pixels see its surface, .xy across and .zw down; `bounded` false where
-// the footprint is unbounded.
+// neighbouring pixels, `footprint_scale` of a pixel apart, see its surface, .xy across
+// and .zw down; `bounded` false where the footprint is unbounded.
 struct UvSteps {
     steps: vec4<f32>,
     bounded: bool,
 }
 
-fn uv_steps(hit: Hit, time: f32) -> UvSteps {
+fn uv_steps(hit: Hit, time: f32, footprint_scale: f32) -> UvSteps {
     let none = UvSteps(vec4<f32>(0.0), false);
     let d = hit.point - params.eye.xyz;
     if !(dot(d, params.forward.xyz) > 0.0) {
         return none;
     }
     let n = hit.geometric_normal;
-    let sx = neighbour_step(d, n, params.pixel_dx.xyz);
-    let sy = neighbour_step(d, n, params.pixel_dy.xyz);
+    let sx = neighbour_step(d, n, params.pixel_dx.xyz * footprint_scale);
+    let sy = neighbour_step(d, n, params.pixel_dy.xyz * footprint_scale);
     if sx.w == 0.0 || sy.w == 0.0 {
         return none;
     }

@@ -255,6 +255,18 @@ struct Shading {
     phong: vec3<f32>,
 }
 
+// The current sample's footprint as a fraction of a pixel (TraceContext::footprint_scale).
+var<private> sample_footprint_scale: f32 = 1.0;
+
+// glint_core::scene::Settings::sample_footprint: in adaptive rounds sample k is filtered
+// as one of k + 1; a uniform render's scale rides in pixel_dx.w.
+fn sample_footprint(index: u32) -> f32 {
+    if params.adaptive_min > 0u {
+        return max(1.0 / sqrt(f32(index + 1u)), 0.125);
+    }
+    return params.pixel_dx.w;
+}
+
 // glint_core::scene::RenderScene::texture_at_hit: averaged over the pixel's footprint
 // when the texture is filtered.
 fn texture_at_hit(index: u32, hit: Hit, repeat: vec2<f32>, time: f32) -> vec3<f32> {
@@ -262,7 +274,7 @@ fn texture_at_hit(index: u32, hit: Hit, repeat: vec2<f32>, time: f32) -> vec3<f3
     if !texture_is_filtered(index) {
         return texture_sample(index, uv);
     }
-    let footprint = uv_steps(hit, time);
+    let footprint = uv_steps(hit, time, sample_footprint_scale);
     return texture_sample_over(index, uv, footprint.steps * vec4<f32>(repeat, repeat), footprint.bounded);
 }
 
@@ -476,6 +488,7 @@ fn whitted_radiance(camera: Ray, rng: ptr<function, u32>) -> vec3<f32> {
 // film position from the pixel pattern, then a stream seeded by hash(px, py, index,
 // seed) whose first two numbers place the ray on the lens.
 fn whitted_sample(px: u32, py: u32, index: u32) -> vec3<f32> {
+    sample_footprint_scale = sample_footprint(index);
     let offset = pixel_offset(px, py, index);
     var rng = rng_new(hash4(px, py, index, params.seed));
     let lx = rng_next_f32(&rng);
