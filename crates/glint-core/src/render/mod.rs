@@ -286,11 +286,7 @@ fn uniform_tile(scene: &RenderScene, tile: (u32, u32, u32, u32), film: &mut Tile
                 for (k, sample) in samples.iter_mut().enumerate().take(run) {
                     let value = whitted::shade(scene, &sample.ray, hits[k], 0, Vec3::ONE, &mut sample.ctx);
                     counters.rays += sample.ctx.counters.rays;
-                    let aov = if s.aovs {
-                        whitted_aov(scene, &sample.ray, hits[k].as_ref(), sample.ctx.footprint_scale)
-                    } else {
-                        Aov::default()
-                    };
+                    let aov = whitted_aov(scene, &sample.ray, hits[k].as_ref(), sample.ctx.footprint_scale);
                     let culprit = sample.ctx.counters.non_finite_at;
                     values[k * count + index as usize] = Traced { fx: sample.fx, fy: sample.fy, value, aov, culprit };
                 }
@@ -344,9 +340,9 @@ fn path_sample(scene: &RenderScene, px: u32, py: u32, index: u32, counters: &mut
 }
 
 /// The AOVs of a Whitted camera ray from its first hit: the diffuse colour (textured as
-/// the shading is).
+/// the shading is); nothing unless the render keeps AOVs.
 fn whitted_aov(scene: &RenderScene, ray: &Ray, hit: Option<&crate::scene::Hit>, footprint_scale: f32) -> Aov {
-    let Some(hit) = hit else { return Aov::default() };
+    let Some(hit) = hit.filter(|_| scene.settings.aovs) else { return Aov::default() };
     let m = &scene.materials[hit.material as usize];
     let texel = (scene.settings.features.textures && m.texture != crate::material::NO_TEXTURE)
         .then(|| scene.texture_at_hit(m.texture, hit, m.texture_repeat, ray.time, footprint_scale));
@@ -393,11 +389,7 @@ fn trace_sample(
     let hit = scene.intersect(&sample.ray, f32::INFINITY);
     let value = whitted::shade(scene, &sample.ray, hit, 0, Vec3::ONE, &mut sample.ctx);
     counters.rays += sample.ctx.counters.rays;
-    let aov = if scene.settings.aovs {
-        whitted_aov(scene, &sample.ray, hit.as_ref(), sample.ctx.footprint_scale)
-    } else {
-        Aov::default()
-    };
+    let aov = whitted_aov(scene, &sample.ray, hit.as_ref(), sample.ctx.footprint_scale);
     Traced { fx: sample.fx, fy: sample.fy, value, aov, culprit: sample.ctx.counters.non_finite_at }
 }
 
