@@ -116,9 +116,8 @@ impl Texture {
         }
         // The box the two steps span, measured in cells.
         let width = steps.map_or(Vec2::INFINITY, |[dx, dy]| (dx.abs() + dy.abs()) * self.cells);
-        let mean = |x: f32, w: f32| box_filtered_square_wave(x, w);
         let cell = uv * self.cells;
-        let sign = mean(cell.x, width.x) * mean(cell.y, width.y);
+        let sign = box_filtered_square_wave(cell.x, width.x) * box_filtered_square_wave(cell.y, width.y);
         // sign = +1 on an even cell, −1 on an odd one; the average of the product of
         // the two axes' waves is the product of their averages (the box is separable).
         self.even * (0.5 + 0.5 * sign) + self.odd * (0.5 - 0.5 * sign)
@@ -160,7 +159,7 @@ impl Texture {
 /// across the box. Point-sampled when the box is too narrow for `f32` to tell the ends
 /// apart, zero when it spans so many cells that the mean is lost in rounding.
 fn box_filtered_square_wave(x: f32, w: f32) -> f32 {
-    let point = if (x.floor()).rem_euclid(2.0) == 0.0 { 1.0 } else { -1.0 };
+    let point = if x.floor().rem_euclid(2.0) == 0.0 { 1.0 } else { -1.0 };
     if w.is_nan() || w <= 1e-4 * x.abs().max(1.0) {
         return point;
     }
