@@ -5,7 +5,7 @@ use glam::Vec3;
 mod srgb8;
 
 pub use crate::desc::Transfer;
-use crate::sampling::Filter;
+use crate::sampling::{Filter, FilterKind};
 
 /// Weighted sample sums over a rectangle of pixels: a tile plus the halo its filter
 /// reaches into, or the whole image. A pixel is `Σ w·L / Σ w` over the samples whose
@@ -65,6 +65,10 @@ impl FilmTile {
     /// [`FilmTile::with_aovs`]).
     pub fn splat_with(&mut self, filter: &Filter, fx: f32, fy: f32, value: Vec3, aov: Option<&Aov>) {
         let aov = aov.filter(|_| !self.aov_sums.is_empty()).map(|a| [a.albedo, a.normal, Vec3::splat(a.depth)]);
+        if let Some(i) = self.only_pixel(filter, fx, fy) {
+            self.add(i, filter.eval(0.0, 0.0), value, &aov);
+            return;
+        }
         let r = filter.radius;
         let x_lo = ((fx - 0.5 - r).ceil() as i64).max(self.x0 as i64);
         let x_hi = ((fx - 0.5 + r).floor() as i64).min(self.x0 as i64 + self.width as i64 - 1);
@@ -75,14 +79,33 @@ impl FilmTile {
                 let w = filter.eval(px as f32 + 0.5 - fx, py as f32 + 0.5 - fy);
                 if w != 0.0 {
                     let i = ((py - self.y0 as i64) * self.width as i64 + (px - self.x0 as i64)) as usize;
-                    self.sums[i] += w * value;
-                    self.weights[i] += w;
-                    if let Some(layers) = &aov {
-                        for (sum, layer) in self.aov_sums[i].iter_mut().zip(layers) {
-                            *sum += w * *layer;
-                        }
-                    }
+                    self.add(i, w, value, &aov);
                 }
+            }
+        }
+    }
+
+    /// The index of the one pixel the pixel-sized box filter gives a sample strictly
+    /// inside it to (the common case, and the cost of a whole splat saved); `None` for
+    /// other filters, samples on a pixel border (which reach both sides) and pixels
+    /// outside this rectangle.
+    #[inline]
+    fn only_pixel(&self, filter: &Filter, fx: f32, fy: f32) -> Option<usize> {
+        let (x, y) = (fx.floor(), fy.floor());
+        let inside = filter.kind == FilterKind::Box && filter.radius == 0.5 && fx > x && fy > y;
+        let (px, py) = (x as i64 - self.x0 as i64, y as i64 - self.y0 as i64);
+        let here = (0..self.width as i64).contains(&px) && (0..self.height as i64).contains(&py);
+        (inside && here).then(|| (py * self.width as i64 + px) as usize)
+    }
+
+    /// Adds a sample of weight `w` to pixel `i`.
+    #[inline]
+    fn add(&mut self, i: usize, w: f32, value: Vec3, aov: &Option<[Vec3; 3]>) {
+        self.sums[i] += w * value;
+        self.weights[i] += w;
+        if let Some(layers) = aov {
+            for (sum, layer) in self.aov_sums[i].iter_mut().zip(layers) {
+                *sum += w * *layer;
             }
         }
     }
@@ -231,5 +254,30 @@ mod tests {
         assert!((linear_to_srgb(2.0) - 1.0).abs() < 1e-6);
         assert_eq!(linear_to_srgb(-1.0), 0.0);
         assert_eq!(linear_to_srgb(f32::NAN), 0.0);
+    }
+
+    #[test]
+    fn a_pixel_box_gives_each_sample_to_the_pixel_it_falls_in() {
+        let filter = Filter::new(FilterKind::Box, 0.5).unwrap();
+        // A tile with a halo: pixels 2..6 across, 3..6 down.
+        let mut film = FilmTile::new(2, 3, 4, 3);
+        let inside = [(2.25, 3.5, 1.0), (5.999, 5.001, 2.0), (4.5, 4.5, 4.0)];
+        for (fx, fy, v) in inside {
+            film.splat(&filter, fx, fy, Vec3::splat(v));
+        }
+        // On the border between two pixels the sample reaches both; outside, neither.
+        film.splat(&filter, 3.0, 3.5, Vec3::splat(8.0));
+        film.splat(&filter, 7.5, 3.5, Vec3::splat(16.0));
+        film.splat(&filter, 1.5, 4.5, Vec3::splat(32.0));
+        let at = |x: u32, y: u32| {
+            let i = ((y - 3) * 4 + (x - 2)) as usize;
+            (film.sums[i].x, film.weights[i])
+        };
+        assert_eq!(at(2, 3), (9.0, 2.0));
+        assert_eq!(at(3, 3), (8.0, 1.0));
+        assert_eq!(at(5, 5), (2.0, 1.0));
+        assert_eq!(at(4, 4), (4.0, 1.0));
+        let total: f32 = film.weights.iter().sum();
+        assert_eq!(total, 5.0, "only the samples inside the tile count, the border one twice");
     }
 }
