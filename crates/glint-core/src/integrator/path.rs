@@ -59,7 +59,9 @@ struct Bounce {
 }
 
 /// Radiance arriving along the camera ray `ray`, drawing every random number from
-/// `sampler`; `aov`, when given, receives what the first hit looks like.
+/// `sampler`; `aov`, when given, receives what the first hit looks like. Always inlined,
+/// so the render's AVX2 tile loop compiles the path loop for AVX2 too.
+#[inline(always)]
 pub fn radiance(
     scene: &RenderScene,
     ray: &Ray,
