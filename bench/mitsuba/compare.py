@@ -3,7 +3,7 @@
 
     compare.py rmse TEST.exr REF.exr                  # one number
     compare.py table --out DIR MANIFEST.tsv     # scene, glint, Mitsuba A, B, ref, glint s, A json
-    compare.py speed --gt GT.exr --mitsuba LABEL:EXR:SECONDS:SPP [...] --glint EXR:SECONDS:SPP [...]
+    compare.py speed --gt GT.exr --mitsuba LABEL:EXR:SECONDS:SPP [...] --glint EXR:SECONDS:SPP [...] [--glint-label L]
 
 The error measure is the relative mean squared error
 
@@ -218,7 +218,7 @@ def cmd_speed(args):
     for label, spp, secs, err in rows:
         print(f"| {label} | {spp} | {secs:.2f} | {fmt(w * h * spp / secs)} | {fmt(err)} | {fmt(err * secs)} |")
     for spp, secs, err in glint:
-        print(f"| glint | {spp} | {secs:.2f} | {fmt(w * h * spp / secs)} | {fmt(err)} | {fmt(err * secs)} |")
+        print(f"| {args.glint_label} | {spp} | {secs:.2f} | {fmt(w * h * spp / secs)} | {fmt(err)} | {fmt(err * secs)} |")
     if glint:
         print("\n| target | target rMSE | target time (s) | glint time to reach it (s) | glint / Mitsuba time |")
         print("| --- | ---: | ---: | ---: | ---: |")
@@ -247,6 +247,7 @@ def main():
     p.add_argument("--gt", required=True)
     p.add_argument("--mitsuba", action="append", default=[], metavar="LABEL:EXR:SECONDS:SPP")
     p.add_argument("--glint", action="append", default=[], metavar="EXR:SECONDS:SPP")
+    p.add_argument("--glint-label", default="glint", help="what the glint rows are called (e.g. its sampler)")
     p.set_defaults(fn=cmd_speed)
     args = ap.parse_args()
     args.fn(args)

@@ -584,14 +584,16 @@ impl RenderScene {
     /// [`RenderScene::intersect`] with the instance BVH traversed on the lanes `L`.
     #[inline(always)]
     fn intersect_on<L: Lanes>(&self, lanes: L, ray: &Ray, t_max: f32) -> Option<Hit> {
-        let mut best: Option<(u32, crate::shape::ShapeHit)> = None;
+        // The closest hit so far, with the ray in its instance's object space (reused
+        // for the hit's surface rather than transformed again).
+        let mut best: Option<(u32, crate::shape::ShapeHit, Ray)> = None;
         let mut t_max = t_max;
         let mut test = |index: u32, t_max: &mut f32| {
             let inst = &self.instances[index as usize];
             let local = self.transform_at(inst, ray.time).ray_to_object(ray);
             if let Some(hit) = self.intersect_shape(inst, &local, *t_max) {
                 *t_max = hit.t;
-                best = Some((index, hit));
+                best = Some((index, hit, local));
             }
             false
         };
@@ -599,8 +601,8 @@ impl RenderScene {
         for index in self.bounded_count..self.instances.len() {
             test(index as u32, &mut t_max);
         }
-        let (index, hit) = best?;
-        Some(self.hit_from(ray, index, hit))
+        let (index, hit, local) = best?;
+        Some(self.hit_in_object_space(ray, &local, index, hit))
     }
 
     /// How much work finding `ray`'s closest hit takes: the shapes it is tested against,
@@ -631,13 +633,21 @@ impl RenderScene {
     /// The full [`Hit`] of `ray` from its closest hit `hit` on instance `index`.
     fn hit_from(&self, ray: &Ray, index: u32, hit: crate::shape::ShapeHit) -> Hit {
         let inst = &self.instances[index as usize];
+        let local = self.transform_at(inst, ray.time).ray_to_object(ray);
+        self.hit_in_object_space(ray, &local, index, hit)
+    }
+
+    /// [`RenderScene::hit_from`] given `local`, the ray already in the instance's object
+    /// space.
+    #[inline]
+    fn hit_in_object_space(&self, ray: &Ray, local: &Ray, index: u32, hit: crate::shape::ShapeHit) -> Hit {
+        let inst = &self.instances[index as usize];
         let xf = self.transform_at(inst, ray.time);
-        let local = xf.ray_to_object(ray);
         let material = inst.shape.hit_material(&self.shape_tables, hit).unwrap_or(inst.material);
         if inst.shape.kind != ShapeKind::Mesh {
             // Analytic surfaces: the true surface is the shading surface, so the normal
             // and the point are transformed once.
-            let surface = inst.shape.surface_with(&self.shape_tables, &local, hit);
+            let surface = inst.shape.surface_with(&self.shape_tables, local, hit);
             let normal = xf.normal_to_world(surface.normal).normalize_or(Vec3::Y);
             let point = xf.point_to_world(surface.point);
             return Hit {
@@ -654,7 +664,7 @@ impl RenderScene {
             };
         }
         let mesh = &self.meshes[inst.shape.mesh_index() as usize];
-        let m = mesh.surface(&local, hit);
+        let m = mesh.surface(local, hit);
         let (surface, geometric, shadow_point) = (m.surface, m.geometric, m.shadow_point);
         let mut normal = xf.normal_to_world(surface.normal).normalize_or(Vec3::Y);
         let shading = &self.materials[material as usize];
