@@ -311,6 +311,7 @@ impl SurfaceBsdf<'_> {
     }
 
     /// `f(wo, wi)` of the non-delta lobes.
+    #[inline]
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         match self.record.kind {
             BsdfKind::Dielectric => self.rough_dielectric(wo, wi).0,
@@ -328,6 +329,7 @@ impl SurfaceBsdf<'_> {
     }
 
     /// Density with which [`SurfaceBsdf::sample`] picks `wi` through a non-delta lobe.
+    #[inline]
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         match self.record.kind {
             BsdfKind::Dielectric => self.rough_dielectric(wo, wi).1,
@@ -345,6 +347,7 @@ impl SurfaceBsdf<'_> {
     }
 
     /// A direction `wi` for `wo`, from `u_lobe` (which lobe) and `u` (where in it).
+    #[inline]
     pub fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
         match self.record.kind {
             BsdfKind::Dielectric => self.sample_dielectric(wo, u_lobe, u),

@@ -220,6 +220,7 @@ fn environment_light(scene: &RenderScene, ray: &Ray, previous: Option<Bounce>) -
 /// One light sample (next-event estimation): an emitter chosen by power, a point or
 /// direction on it, a shadow ray, MIS-weighted against BSDF sampling.
 #[allow(clippy::too_many_arguments)]
+#[inline(always)]
 fn direct_light(
     scene: &RenderScene,
     hit: &Hit,
