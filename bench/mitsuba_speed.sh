@@ -19,6 +19,7 @@
 # Environment (defaults in brackets): MITSUBA_SPP [256]  GLINT_SPPS [16 32 64 128 256 512]
 #   MITSUBA_SAMPLERS [independent multijitter: the llvm_ad_rgb samplers timed; scalar_rgb
 #   always runs the file's independent]  GLINT_SAMPLER [sobol]
+#   REPEATS [3: rounds of all timed renders, each configuration's best time kept]
 #   GT_SPP [4096]  WIDTH [512]  HEIGHT [512]  MAX_DEPTH [8]  THREADS [2]
 #   SKIP_SCALAR [0; 1 leaves out scalar_rgb, which takes ~2 min]
 #   MITSUBA_REFS [/work/mitsuba-refs]: where the ground truth is cached (rendering it takes
@@ -28,8 +29,8 @@
 # Times are wall-clock seconds: for glint the whole process (parse, BVH, render, write); for
 # Mitsuba scene loading plus rendering, JIT compilation included, without Python's start-up
 # and the import of Mitsuba (about 1 s, which would only favour glint if counted). Keep the
-# machine otherwise idle while it runs. About 9 minutes on 2 cores once the ground truth is
-# cached (with glint at 0.8 Msamples/s, as it was on 2026-12-01).
+# machine otherwise idle while it runs. About 12 minutes on 2 cores once the ground truth is
+# cached (three rounds; glint at about 2 Msamples/s, as on 2026-12-02).
 set -euo pipefail
 
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -47,6 +48,7 @@ threads="${THREADS:-2}"
 out="${OUT:-$root/target/mitsuba-speed}"
 glint="${GLINT:-$root/target/release/glint}"
 mitsuba_only="${MITSUBA_ONLY:-0}"
+repeats="${REPEATS:-3}"
 gt_seed=7
 timed_seed=3
 
@@ -68,17 +70,10 @@ gt=$(mitsuba_render "$scene" "$w" "$h" "$gt_spp" "$depth" "$gt_seed" llvm_ad_rgb
 "$python" "$mitsuba_dir/render.py" "$mitsuba_dir/$scene.xml" -o "$out/warmup.exr" --variant llvm_ad_rgb \
     --threads "$threads" --spp 4 -D width=64 -D height=64 -D max_depth="$depth" -q >/dev/null 2>&1 ||
     die "Mitsuba llvm_ad_rgb does not render $scene.xml; run bench/mitsuba/render.py by hand to see why"
-mitsuba_args=()
-runs=()
-for sampler in ${MITSUBA_SAMPLERS:-independent multijitter}; do
-    runs+=("llvm_ad_rgb $sampler")
-done
-[[ "${SKIP_SCALAR:-0}" == 1 ]] || runs+=("scalar_rgb independent")
-for run in "${runs[@]}"; do
-    read -r variant sampler <<<"$run"
-    echo "== Mitsuba $variant, $sampler sampler: $mitsuba_spp spp, timed" >&2
-    exr="$out/mitsuba-$variant-$sampler-${mitsuba_spp}spp.exr"
-    log="$out/mitsuba-$variant-$sampler.log"
+# mitsuba_time VARIANT SAMPLER: renders the timed Mitsuba image and prints its seconds.
+mitsuba_time() {
+    local variant="$1" sampler="$2"
+    local exr="$out/mitsuba-$variant-$sampler-${mitsuba_spp}spp.exr" log="$out/mitsuba-$variant-$sampler.log" json
     # One pass of all samples (the timed configuration Mitsuba users would run), unless that
     # is more than 256 spp.
     json=$("$python" "$mitsuba_dir/render.py" "$mitsuba_dir/$scene.xml" -o "$exr" --variant "$variant" \
@@ -87,29 +82,68 @@ for run in "${runs[@]}"; do
         cat "$log" >&2
         die "Mitsuba $variant ($sampler) failed"
     }
-    secs=$(echo "$json" | "$python" -c 'import json, sys; print(json.load(sys.stdin)["total_s"])')
-    echo "   $secs s" >&2
-    mitsuba_args+=(--mitsuba "Mitsuba $variant ($sampler):$exr:$secs:$mitsuba_spp")
-done
+    echo "$json" | "$python" -c 'import json, sys; print(json.load(sys.stdin)["total_s"])'
+}
 
-glint_args=()
+# glint_time SPP: renders glint's image at SPP and prints its wall-clock seconds.
+glint_time() {
+    local spp="$1" g="$out/glint-${1}spp.exr" start
+    # shellcheck disable=SC2206 # GLINT_ARGS is split on purpose
+    local cmd=("$glint" render "$mitsuba_dir/$scene.xml" -o "$g" --spp "$spp" --width "$w" --height "$h" -j "$threads" -q
+        --sampler "${GLINT_SAMPLER:-sobol}" ${GLINT_ARGS:-})
+    start=$EPOCHREALTIME
+    "${cmd[@]}" >"$out/glint-${spp}spp.log" 2>&1 || {
+        sed 's/^/    /' "$out/glint-${spp}spp.log" >&2
+        die "glint failed: ${cmd[*]}"
+    }
+    awk -v a="$start" -v b="$EPOCHREALTIME" 'BEGIN { printf "%.3f", b - a }'
+}
+
+# Every timed configuration, as "mitsuba VARIANT SAMPLER" or "glint SPP".
+runs=()
+for sampler in ${MITSUBA_SAMPLERS:-independent multijitter}; do
+    runs+=("mitsuba llvm_ad_rgb $sampler")
+done
+[[ "${SKIP_SCALAR:-0}" == 1 ]] || runs+=("mitsuba scalar_rgb independent")
 if [[ "$mitsuba_only" != 1 ]]; then
     for spp in $glint_spps; do
-        echo "== glint (${GLINT_SAMPLER:-sobol} sampler): $spp spp" >&2
-        g="$out/glint-${spp}spp.exr"
-        # shellcheck disable=SC2206 # GLINT_ARGS is split on purpose
-        cmd=("$glint" render "$mitsuba_dir/$scene.xml" -o "$g" --spp "$spp" --width "$w" --height "$h" -j "$threads" -q
-            --sampler "${GLINT_SAMPLER:-sobol}" ${GLINT_ARGS:-})
-        start=$EPOCHREALTIME
-        "${cmd[@]}" >"$out/glint-${spp}spp.log" 2>&1 || {
-            sed 's/^/    /' "$out/glint-${spp}spp.log" >&2
-            die "glint failed: ${cmd[*]}"
-        }
-        secs=$(awk -v a="$start" -v b="$EPOCHREALTIME" 'BEGIN { printf "%.3f", b - a }')
-        echo "   $secs s" >&2
-        glint_args+=(--glint "$g:$secs:$spp")
+        runs+=("glint $spp")
     done
 fi
+
+# Rounds of every configuration in turn, keeping each one's best time: a VM whose speed
+# drifts by tens of percent over minutes then slows all of them alike rather than whichever
+# happened to run during a slow spell. scalar_rgb, at over a minute a run, runs in the first
+# round only.
+declare -A best
+for ((round = 1; round <= repeats; round++)); do
+    for run in "${runs[@]}"; do
+        read -r who a b <<<"$run"
+        [[ "$round" -gt 1 && "$a" == scalar_rgb ]] && continue
+        if [[ "$who" == mitsuba ]]; then
+            echo "== round $round: Mitsuba $a, $b sampler, $mitsuba_spp spp" >&2
+            secs=$(mitsuba_time "$a" "$b")
+        else
+            echo "== round $round: glint (${GLINT_SAMPLER:-sobol} sampler), $a spp" >&2
+            secs=$(glint_time "$a")
+        fi
+        echo "   $secs s" >&2
+        if [[ -z "${best[$run]:-}" ]] || awk -v s="$secs" -v b="${best[$run]}" 'BEGIN { exit !(s < b) }'; then
+            best[$run]=$secs
+        fi
+    done
+done
+
+mitsuba_args=()
+glint_args=()
+for run in "${runs[@]}"; do
+    read -r who a b <<<"$run"
+    if [[ "$who" == mitsuba ]]; then
+        mitsuba_args+=(--mitsuba "Mitsuba $a ($b):$out/mitsuba-$a-$b-${mitsuba_spp}spp.exr:${best[$run]}:$mitsuba_spp")
+    else
+        glint_args+=(--glint "$out/glint-${a}spp.exr:${best[$run]}:$a")
+    fi
+done
 
 echo >&2
 echo "Cornell box ${w}x${h}, max_depth $depth, $threads threads"
