@@ -39,18 +39,62 @@ pub fn shade(
     weight: Vec3,
     ctx: &mut TraceContext,
 ) -> Vec3 {
-    shade_observed(scene, (ray, RayKind::Camera), hit, depth, weight, ctx, &mut NoObserver)
+    crate::accel::lanes::on_avx2_or!(
+        |_avx| shade_avx2(scene, ray, hit, depth, weight, ctx),
+        shade_observed(scene, (ray, RayKind::Camera), hit, depth, weight, ctx, &mut NoObserver)
+    )
+}
+
+/// [`shade`] compiled for AVX2, its reflected and refracted rays shaded by itself again,
+/// so the whole recursion runs as AVX2 code: VEX encoding and wider registers take
+/// instructions off, and the results stay bit-identical (no multiply-add is fused).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn shade_avx2(
+    scene: &RenderScene,
+    ray: &Ray,
+    hit: Option<Hit>,
+    depth: u32,
+    weight: Vec3,
+    ctx: &mut TraceContext,
+) -> Vec3 {
+    // A closure inherits the AVX2 of the function it is written in.
+    let again = |scene: &RenderScene,
+                 (ray, _): (&Ray, RayKind),
+                 hit,
+                 depth,
+                 weight,
+                 ctx: &mut TraceContext,
+                 _: &mut NoObserver| { shade_avx2(scene, ray, hit, depth, weight, ctx) };
+    shade_with(scene, (ray, RayKind::Camera), hit, depth, weight, ctx, &mut NoObserver, &again)
 }
 
 /// [`shade`] telling `observer` what it does; with [`NoObserver`] the calls compile away.
-fn shade_observed(
+fn shade_observed<O: Observer>(
     scene: &RenderScene,
     (ray, kind): (&Ray, RayKind),
     hit: Option<Hit>,
     depth: u32,
     weight: Vec3,
     ctx: &mut TraceContext,
-    observer: &mut impl Observer,
+    observer: &mut O,
+) -> Vec3 {
+    shade_with(scene, (ray, kind), hit, depth, weight, ctx, observer, &shade_observed::<O>)
+}
+
+/// The lighting equation at `ray`'s hit: the body of [`shade_observed`] and
+/// [`shade_avx2`], inlined into each, whose secondary rays it shades with `again`.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn shade_with<O: Observer>(
+    scene: &RenderScene,
+    (ray, kind): (&Ray, RayKind),
+    hit: Option<Hit>,
+    depth: u32,
+    weight: Vec3,
+    ctx: &mut TraceContext,
+    observer: &mut O,
+    again: &impl Fn(&RenderScene, (&Ray, RayKind), Option<Hit>, u32, Vec3, &mut TraceContext, &mut O) -> Vec3,
 ) -> Vec3 {
     ctx.counters.rays += 1;
     observer.ray(ray, kind, depth, hit.as_ref());
@@ -78,8 +122,8 @@ fn shade_observed(
     if features.reflections && worth_tracing(reflect_weight) {
         let r = Ray::new(offset_ray_origin(hit.point, ng), reflected_dir).at_time(ray.time);
         let hit = scene.intersect(&r, f32::INFINITY);
-        let term = material.reflective
-            * shade_observed(scene, (&r, RayKind::Reflected), hit, depth + 1, reflect_weight, ctx, observer);
+        let term =
+            material.reflective * again(scene, (&r, RayKind::Reflected), hit, depth + 1, reflect_weight, ctx, observer);
         observer.term("reflected k_s·O_r·I_r", term);
         color += term;
     }
@@ -96,8 +140,7 @@ fn shade_observed(
             ),
         };
         let hit = scene.intersect(&r, f32::INFINITY);
-        let term =
-            material.transmissive * shade_observed(scene, (&r, kind), hit, depth + 1, transmit_weight, ctx, observer);
+        let term = material.transmissive * again(scene, (&r, kind), hit, depth + 1, transmit_weight, ctx, observer);
         observer.term("transmitted k_t·O_t·I_t", term);
         color += term;
     }
@@ -116,7 +159,9 @@ fn blamed_if_non_finite(color: Vec3, hit: &Hit, ctx: &mut TraceContext) -> Vec3 
 }
 
 /// The non-recursive part: ambient plus every unshadowed light's diffuse and specular.
-/// `n` faces the viewer and `v` points to it; shadow rays travel at `time`.
+/// `n` faces the viewer and `v` points to it; shadow rays travel at `time`. Inlined, so
+/// the AVX2 shading compiles it for AVX2 too.
+#[inline(always)]
 fn direct_lighting(
     scene: &RenderScene,
     hit: &Hit,
