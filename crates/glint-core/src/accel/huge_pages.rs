@@ -13,20 +13,31 @@ const WORTH_IT: usize = 4 << 20;
 /// with huge pages before anything is written to it. The advice is a hint: where the
 /// kernel declines, this is an ordinary copy.
 pub fn on_huge_pages<T: Copy>(values: Vec<T>) -> Vec<T> {
-    let bytes = std::mem::size_of_val(values.as_slice());
-    if bytes < WORTH_IT || !cfg!(target_os = "linux") {
+    if std::mem::size_of_val(values.as_slice()) < WORTH_IT || !cfg!(target_os = "linux") {
         return values;
+    }
+    let mut out = with_capacity_on_huge_pages(values.len());
+    out.extend_from_slice(&values);
+    out
+}
+
+/// An empty vector with room for `len` values, its memory (when big enough, on Linux)
+/// advised onto huge pages: a builder that knows its size fills it in place, without
+/// the copy [`on_huge_pages`] makes.
+pub fn with_capacity_on_huge_pages<T: Copy>(len: usize) -> Vec<T> {
+    let size = std::mem::size_of::<T>().max(1);
+    if len * size < WORTH_IT || !cfg!(target_os = "linux") {
+        return Vec::with_capacity(len);
     }
     const HUGE: usize = 2 << 20;
     // Room for a whole number of huge pages inside, wherever the allocation starts.
-    let mut out: Vec<T> = Vec::with_capacity(values.len() + HUGE / std::mem::size_of::<T>().max(1) + 1);
+    let out: Vec<T> = Vec::with_capacity(len + HUGE / size + 1);
     let start = out.as_ptr() as usize;
     let first = start.next_multiple_of(HUGE);
-    let end = (start + out.capacity() * std::mem::size_of::<T>()) / HUGE * HUGE;
+    let end = (start + out.capacity() * size) / HUGE * HUGE;
     if end > first {
         advise_huge(first, end - first);
     }
-    out.extend_from_slice(&values);
     out
 }
 
@@ -51,5 +62,7 @@ mod tests {
         assert_eq!(on_huge_pages(small.clone()), small);
         let big: Vec<u64> = (0..(WORTH_IT as u64 / 4)).collect();
         assert_eq!(on_huge_pages(big.clone()), big);
+        let room: Vec<u64> = with_capacity_on_huge_pages(big.len());
+        assert!(room.is_empty() && room.capacity() >= big.len());
     }
 }

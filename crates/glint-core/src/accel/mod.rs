@@ -8,6 +8,6 @@ mod packet;
 mod wide;
 
 pub use bvh::{Bvh, BvhNode};
-pub use huge_pages::on_huge_pages;
+pub use huge_pages::{on_huge_pages, with_capacity_on_huge_pages};
 pub use packet::{PACKET, bits};
 pub use wide::{EMPTY, Order, WIDTH, WideBvh, WideNode};

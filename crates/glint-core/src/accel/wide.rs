@@ -82,19 +82,17 @@ pub(super) const STACK: usize = (WIDTH - 1) * 61 + 1;
 impl WideBvh {
     /// Collapses `bvh` (whose primitive order stays valid).
     pub fn from_binary(bvh: &Bvh) -> WideBvh {
-        let mut nodes = Vec::with_capacity(bvh.nodes.len() / 4 + 1);
-        if let Some(root) = bvh.nodes.first() {
-            if bvh.leaf_preferred[0] {
-                let mut node = WideNode::UNUSED;
-                node.set_box(0, Aabb::new(root.min, root.max));
-                (node.child[0], node.count[0]) = bvh.primitives(0);
-                nodes.push(node);
-            } else {
-                collapse(bvh, 0, &mut nodes);
-            }
-        }
         let bounds = bvh.nodes.first().map(|r| (r.min, r.max));
-        WideBvh { nodes: super::on_huge_pages(nodes), bounds }
+        let Some(root) = bvh.nodes.first() else { return WideBvh { nodes: vec![], bounds } };
+        let nodes = if bvh.leaf_preferred[0] {
+            let mut node = WideNode::UNUSED;
+            node.set_box(0, Aabb::new(root.min, root.max));
+            (node.child[0], node.count[0]) = bvh.primitives(0);
+            vec![node]
+        } else {
+            collapse_in_parallel(bvh, 0)
+        };
+        WideBvh { nodes, bounds }
     }
 
     /// Bounds of everything in the hierarchy (empty when it holds nothing), kept apart
@@ -297,29 +295,39 @@ impl<L: Lanes> SlabRay<L> {
     }
 }
 
-/// Builds the wide node for the inner binary node `n2` and returns its index: opens
-/// the largest inner descendant until there are eight children (past where the SAH
-/// would stop, as Embree fills its nodes), then makes each child a leaf where the SAH
-/// prefers one and a wide node otherwise.
-fn collapse(bvh: &Bvh, n2: usize, out: &mut Vec<WideNode>) -> u32 {
-    let me = out.len();
-    out.push(WideNode::UNUSED);
+/// The binary nodes that become the wide node for the inner binary node `n2`: its
+/// children, with the largest inner one opened until there are eight (past where the
+/// SAH would stop, as Embree fills its nodes). Returns them and how many there are.
+fn wide_children(bvh: &Bvh, n2: usize) -> ([usize; WIDTH], usize) {
     let node = &bvh.nodes[n2];
-    let mut kids = vec![node.index as usize, node.index as usize + 1];
-    // Open the largest inner child until there are eight.
+    let mut kids = [0; WIDTH];
+    (kids[0], kids[1]) = (node.index as usize, node.index as usize + 1);
+    let mut len = 2;
     let area = |i: usize| Aabb::new(bvh.nodes[i].min, bvh.nodes[i].max).half_area();
-    while kids.len() < WIDTH {
-        let Some(open) = (0..kids.len())
+    while len < WIDTH {
+        let Some(open) = (0..len)
             .filter(|&k| bvh.nodes[kids[k]].count == 0)
             .max_by(|&a, &b| area(kids[a]).total_cmp(&area(kids[b])))
         else {
             break;
         };
-        let inner = kids.swap_remove(open);
-        let first = bvh.nodes[inner].index as usize;
-        kids.extend([first, first + 1]);
+        // As a swap-remove and two pushes would order them.
+        let first = bvh.nodes[kids[open]].index as usize;
+        kids[open] = kids[len - 1];
+        (kids[len - 1], kids[len]) = (first, first + 1);
+        len += 1;
     }
-    for (lane, &k) in kids.iter().enumerate() {
+    (kids, len)
+}
+
+/// Builds the wide node for the inner binary node `n2` and its descendants (in
+/// pre-order) onto `out`, and returns its index: each child becomes a leaf where the SAH
+/// prefers one and a wide node otherwise.
+fn collapse(bvh: &Bvh, n2: usize, out: &mut Vec<WideNode>) -> u32 {
+    let me = out.len();
+    out.push(WideNode::UNUSED);
+    let (kids, len) = wide_children(bvh, n2);
+    for (lane, &k) in kids[..len].iter().enumerate() {
         let child = bvh.nodes[k];
         let (index, count) = if bvh.leaf_preferred[k] { bvh.primitives(k) } else { (collapse(bvh, k, out), 0) };
         let n = &mut out[me];
@@ -328,6 +336,45 @@ fn collapse(bvh: &Bvh, n2: usize, out: &mut Vec<WideNode>) -> u32 {
         n.count[lane] = count;
     }
     me as u32
+}
+
+/// [`collapse`] of the whole tree from the root `n2`, the root's children collapsed in
+/// parallel into vectors of their own and then appended in order, their inner indices
+/// moved by where they land: the same nodes in the same order as [`collapse`] gives.
+fn collapse_in_parallel(bvh: &Bvh, n2: usize) -> Vec<WideNode> {
+    use rayon::prelude::*;
+    let (kids, len) = wide_children(bvh, n2);
+    let subtrees: Vec<Vec<WideNode>> = kids[..len]
+        .par_iter()
+        .map(|&k| {
+            let mut nodes = Vec::new();
+            if !bvh.leaf_preferred[k] {
+                collapse(bvh, k, &mut nodes);
+            }
+            nodes
+        })
+        .collect();
+    let total = 1 + subtrees.iter().map(Vec::len).sum::<usize>();
+    let mut out = super::with_capacity_on_huge_pages(total);
+    out.push(WideNode::UNUSED);
+    for (lane, (&k, subtree)) in kids[..len].iter().zip(&subtrees).enumerate() {
+        let child = bvh.nodes[k];
+        let (index, count) = if bvh.leaf_preferred[k] { bvh.primitives(k) } else { (out.len() as u32, 0) };
+        let offset = out.len() as u32;
+        out.extend(subtree.iter().map(|node| {
+            let mut node = *node;
+            for lane in 0..WIDTH {
+                if node.count[lane] == 0 {
+                    node.child[lane] += offset;
+                }
+            }
+            node
+        }));
+        out[0].set_box(lane, Aabb::new(child.min, child.max));
+        out[0].child[lane] = index;
+        out[0].count[lane] = count;
+    }
+    out
 }
 
 #[cfg(test)]
@@ -345,6 +392,23 @@ mod tests {
                 Aabb::new(c - h, c + h)
             })
             .collect()
+    }
+
+    /// The root's subtrees collapsed in parallel and stitched together are the very
+    /// nodes, in the very order, that one serial pre-order collapse writes.
+    #[test]
+    fn parallel_collapse_is_the_serial_collapse() {
+        let mut state = 7u32;
+        let mut next = || {
+            state = state.wrapping_mul(1664525).wrapping_add(1013904223);
+            (state >> 8) as f32 / (1 << 24) as f32
+        };
+        let (bvh, _) = Bvh::build(&random_boxes(20_000, &mut next));
+        let mut serial = Vec::new();
+        collapse(&bvh, 0, &mut serial);
+        let parallel = collapse_in_parallel(&bvh, 0);
+        assert!(serial.len() > 1000);
+        assert!(serial == parallel, "{} serial nodes, {} parallel", serial.len(), parallel.len());
     }
 
     /// Every box the ray enters, by brute force and through the wide hierarchy in both

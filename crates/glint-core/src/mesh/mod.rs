@@ -155,9 +155,11 @@ impl Mesh {
             degenerate,
             packets: vec![],
         };
-        let boxes: Vec<Aabb> = (0..mesh.triangles.len()).map(|i| mesh.triangle_bounds(i)).collect();
-        let (bvh, order) = Bvh::build_blocks(&boxes, 4);
-        mesh.triangles = order.iter().map(|&i| mesh.triangles[i as usize]).collect();
+        let (bvh, order) = Bvh::build_blocks_with(mesh.triangles.len(), 4, |i| mesh.triangle_bounds(i));
+        mesh.triangles = {
+            use rayon::prelude::*;
+            order.par_iter().map(|&i| mesh.triangles[i as usize]).collect()
+        };
         mesh.bvh = WideBvh::from_binary(&bvh);
         mesh.renumber_vertices();
         mesh.pack_leaves();
@@ -167,23 +169,29 @@ impl Mesh {
     /// Packs each leaf's triangles four at a time into [`Mesh::packets`] and points the
     /// leaf at its packets instead of its triangles.
     fn pack_leaves(&mut self) {
-        let corners: Vec<[Vec3; 3]> = (0..self.triangles.len()).map(|t| self.vertices(t)).collect();
-        let mut packets = Vec::with_capacity(self.triangles.len() / 2);
+        use rayon::prelude::*;
+        // Each packet's first triangle and how many it holds, in leaf order.
+        let mut packs: Vec<(u32, u32)> = Vec::with_capacity(self.triangles.len() / 2);
         for node in &mut self.bvh.nodes {
             for lane in 0..WIDTH {
                 let count = node.count[lane];
                 if count == 0 || count == crate::accel::EMPTY {
                     continue;
                 }
-                let first = node.child[lane] as usize;
-                node.child[lane] = packets.len() as u32;
-                for (k, chunk) in corners[first..first + count as usize].chunks(4).enumerate() {
-                    packets.push(Triangle4::new(chunk, (first + 4 * k) as u32));
-                }
-                node.count[lane] = packets.len() as u32 - node.child[lane];
+                let first = node.child[lane];
+                node.child[lane] = packs.len() as u32;
+                packs.extend((first..first + count).step_by(4).map(|start| (start, (first + count - start).min(4))));
+                node.count[lane] = packs.len() as u32 - node.child[lane];
             }
         }
-        self.packets = crate::accel::on_huge_pages(packets);
+        // Filled in place, in parallel: the vector has its room on huge pages already.
+        let mut packets = crate::accel::with_capacity_on_huge_pages(packs.len());
+        packets.par_extend(packs.par_iter().map(|&(first, n)| {
+            let corners: [[Vec3; 3]; 4] =
+                std::array::from_fn(|k| self.vertices((first + (k as u32).min(n - 1)) as usize));
+            Triangle4::new(&corners[..n as usize], first)
+        }));
+        self.packets = packets;
     }
 
     /// Stores vertices in the order the (BVH-ordered) triangles first use them, so that
