@@ -6,9 +6,10 @@
 //! What makes it fast is what it does not do, as in Embree's builders: one pass bins a
 //! node's primitives on all three axes at once, from 32-byte records that hold nothing
 //! but a box and an index; the partition that follows also finds both sides' bounds, so
-//! no node makes a pass of its own for them; the split sweep skips empty bins, which is
-//! most of them in the many small nodes near the leaves; and subtrees small enough for
-//! one thread write their nodes compactly, so memory they do not use is never touched.
+//! no node makes a pass of its own for them; the split sweep has no branches on the
+//! bins' counts, which in the many small nodes near the leaves follow no pattern a CPU
+//! predicts; and subtrees small enough for one thread write their nodes compactly, so
+//! memory they do not use is never touched.
 
 use bytemuck::{Pod, Zeroable};
 use glam::{BVec4A, Vec3, Vec4};
@@ -267,8 +268,9 @@ impl Bins {
     }
 }
 
-/// Half the surface area of the non-empty box `lo..hi` (x, y, z lanes), with the same
-/// operations as [`Aabb::half_area`]; the sweep knows a box is empty by its count.
+/// Half the surface area of the box `lo..hi` (x, y, z lanes), with the same operations
+/// as [`Aabb::half_area`] for a box with something in it; for the empty box it is not a
+/// number, and the sweep never chooses a side whose count is 0.
 #[inline(always)]
 fn half_area(lo: Vec4, hi: Vec4) -> f32 {
     let e = hi - xyz(lo);
@@ -280,7 +282,6 @@ fn half_area(lo: Vec4, hi: Vec4) -> f32 {
 struct Params {
     /// `log2` of the block size (a power of two).
     block_shift: u32,
-    block: usize,
     max_leaf: usize,
 }
 
@@ -289,7 +290,7 @@ impl Params {
     /// split sweep asks for it 180 times a node.
     #[inline(always)]
     fn blocks(&self, n: u32) -> f32 {
-        ((n + (self.block as u32 - 1)) >> self.block_shift) as f32
+        ((n + ((1 << self.block_shift) - 1)) >> self.block_shift) as f32
     }
 }
 
@@ -299,9 +300,8 @@ impl Bvh {
         Bvh::build_blocks(bounds, 1)
     }
 
-    /// As [`Bvh::build`], for primitives a leaf tests `block` (a power of two; others
-    /// are rounded up to one) at a time (a mesh's
-    /// four-triangle packets): the SAH charges a leaf of `n` primitives `⌈n/block⌉`
+    /// As [`Bvh::build`], for primitives a leaf tests `block` at a time (a mesh's
+    /// four-triangle packets; a power of two, others are rounded up): the SAH charges a leaf of `n` primitives `⌈n/block⌉`
     /// intersections, as Embree's builders do for their `Triangle4` leaves, and leaves
     /// hold at most one block unless the SAH prefers a bigger one. Subtrees build in
     /// parallel on rayon's pool.
@@ -315,7 +315,7 @@ impl Bvh {
     pub fn build_blocks_with(count: usize, block: usize, bounds_of: impl Fn(usize) -> Aabb + Sync) -> (Bvh, Vec<u32>) {
         use rayon::prelude::*;
         let block = block.max(1).next_power_of_two();
-        let params = Params { block_shift: block.trailing_zeros(), block, max_leaf: MAX_LEAF_BLOCKS * block.max(4) };
+        let params = Params { block_shift: block.trailing_zeros(), max_leaf: MAX_LEAF_BLOCKS * block.max(4) };
         if count == 0 {
             return (Bvh::default(), vec![]);
         }
@@ -415,7 +415,7 @@ fn build_compact(
 ) -> (BvhNode, bool) {
     let bounds = extents.bounds();
     let n = prims.len();
-    if n <= params.block || depth >= MAX_DEPTH {
+    if n <= 1 << params.block_shift || depth >= MAX_DEPTH {
         return (BvhNode { min: bounds.min, index: first, max: bounds.max, count: n as u32 }, true);
     }
     let (mid, leaf_cheaper, [left_extents, right_extents]) = sah_partition(prims, extents, params);
@@ -467,7 +467,7 @@ fn sah_partition(prims: &mut [PrimRef], extents: &Extents, params: Params) -> (u
     let n = prims.len();
     let map = BinMap::new(extents);
     let bins = Bins::of(prims, &map);
-    let leaf_cost = n.div_ceil(params.block) as f32;
+    let leaf_cost = params.blocks(n as u32);
     let small = n <= params.max_leaf;
     let Some((cost, axis, split)) = best_split(&bins, &map, n, params) else {
         let mid = n / 2;
