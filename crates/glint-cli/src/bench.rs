@@ -3,8 +3,9 @@
 //! on in the same run) or on the same kind of mesh and rays generated here.
 //!
 //! Timings are CPU seconds, best of three, so other work on a busy machine skews them
-//! less: the build's over the whole process (it runs on every core, and Embree's build
-//! is measured the same way), the rays' over the one thread that traces them.
+//! less: the build's over the whole process (it runs on the `--threads` that trace, as
+//! Embree's build in `bench/embree_native.sh` runs on its device's), the rays' over the
+//! one thread that traces them.
 
 use std::fmt::Write as _;
 use std::path::Path;
