@@ -11,6 +11,7 @@ pub mod triangle;
 pub mod triangle4;
 
 use glam::{Vec2, Vec3};
+use rayon::prelude::*;
 
 use crate::accel::lanes::{Lanes, Portable};
 use crate::accel::{Bvh, Order, PACKET, WIDTH, WideBvh, bits};
@@ -106,7 +107,7 @@ impl Mesh {
         if !desc.indices.len().is_multiple_of(3) {
             return Err(MeshError::Ragged(desc.indices.len()));
         }
-        if let Some(i) = desc.positions.iter().position(|p| !p.is_finite()) {
+        if let Some(i) = desc.positions.par_iter().position_first(|p| !p.is_finite()) {
             return Err(MeshError::NonFinite(i));
         }
         let attributes = [
@@ -119,28 +120,36 @@ impl Mesh {
                 return Err(MeshError::AttributeCount { what, found, count });
             }
         }
-        let mut triangles = Vec::with_capacity(desc.indices.len() / 3);
-        let mut degenerate = 0;
-        for (triangle, tri) in desc.indices.chunks_exact(3).enumerate() {
-            if let Some(&index) = tri.iter().find(|&&i| i as usize >= count) {
-                return Err(MeshError::IndexOutOfRange { triangle, index, count });
-            }
-            let [a, b, c] = [tri[0], tri[1], tri[2]].map(|i| desc.positions[i as usize]);
-            if has_area(a, b, c) {
-                triangles.push([tri[0], tri[1], tri[2]]);
-            } else {
-                degenerate += 1;
-            }
+        let corners = |tri: &[u32]| [tri[0], tri[1], tri[2]];
+        if let Some((triangle, &index)) = desc
+            .indices
+            .par_chunks_exact(3)
+            .enumerate()
+            .filter_map(|(triangle, tri)| Some(triangle).zip(tri.iter().find(|&&i| i as usize >= count)))
+            .find_first(|_| true)
+        {
+            return Err(MeshError::IndexOutOfRange { triangle, index, count });
         }
+        // Kept in their order: the parallel filter collects as the serial one would.
+        let triangles: Vec<[u32; 3]> = desc
+            .indices
+            .par_chunks_exact(3)
+            .map(corners)
+            .filter(|tri| {
+                let [a, b, c] = tri.map(|i| desc.positions[i as usize]);
+                has_area(a, b, c)
+            })
+            .collect();
+        let degenerate = desc.indices.len() / 3 - triangles.len();
         // Non-finite or zero normals would poison shading; fall back to flat shading.
-        let normals = if desc.normals.iter().all(|n| n.is_finite() && n.length_squared() > 0.0) {
+        let normals = if desc.normals.par_iter().all(|n| n.is_finite() && n.length_squared() > 0.0) {
             desc.normals.clone()
         } else {
             Vec::new()
         };
-        let uvs = if desc.uvs.iter().all(|uv| uv.is_finite()) { desc.uvs.clone() } else { Vec::new() };
+        let uvs = if desc.uvs.par_iter().all(|uv| uv.is_finite()) { desc.uvs.clone() } else { Vec::new() };
         // Negative or non-finite colours are no colours at all: the material shows plain.
-        let colors = if desc.colors.iter().all(|c| c.is_finite() && c.min_element() >= 0.0) {
+        let colors = if desc.colors.par_iter().all(|c| c.is_finite() && c.min_element() >= 0.0) {
             desc.colors.clone()
         } else {
             vec![]
@@ -156,12 +165,16 @@ impl Mesh {
             packets: vec![],
         };
         let (bvh, order) = Bvh::build_blocks_with(mesh.triangles.len(), 4, |i| mesh.triangle_bounds(i));
-        mesh.triangles = {
-            use rayon::prelude::*;
-            order.par_iter().map(|&i| mesh.triangles[i as usize]).collect()
-        };
-        mesh.bvh = WideBvh::from_binary(&bvh);
-        mesh.renumber_vertices();
+        // The collapse needs only the tree; the triangles' and vertices' new order only
+        // the leaf order. One runs beside the other (renumbering is serial).
+        let (wide, ()) = rayon::join(
+            || WideBvh::from_binary(&bvh),
+            || {
+                mesh.triangles = order.par_iter().map(|&i| mesh.triangles[i as usize]).collect();
+                mesh.renumber_vertices();
+            },
+        );
+        mesh.bvh = wide;
         mesh.pack_leaves();
         Ok(mesh)
     }
@@ -169,7 +182,6 @@ impl Mesh {
     /// Packs each leaf's triangles four at a time into [`Mesh::packets`] and points the
     /// leaf at its packets instead of its triangles.
     fn pack_leaves(&mut self) {
-        use rayon::prelude::*;
         // Each packet's first triangle and how many it holds, in leaf order.
         let mut packs: Vec<(u32, u32)> = Vec::with_capacity(self.triangles.len() / 2);
         for node in &mut self.bvh.nodes {

@@ -107,6 +107,37 @@ fn compile_rejects_bad_meshes_and_drops_degenerate_triangles() {
     assert_eq!((mesh.triangles.len(), mesh.degenerate), (1, 2));
 }
 
+/// Validation runs in parallel over big meshes; it must still report the first bad
+/// triangle and vertex, and keep the good triangles in their order.
+#[test]
+fn validation_of_a_big_mesh_reports_the_first_fault() {
+    let n = 200_000u32;
+    let positions: Vec<Vec3> = (0..n + 2).map(|i| Vec3::new(i as f32, (i % 7) as f32, (i % 3) as f32)).collect();
+    let indices: Vec<u32> = (0..n).flat_map(|i| [i, i + 1, i + 2]).collect();
+    let good = MeshDesc { positions, indices, ..Default::default() };
+    let mut bad = good.clone();
+    for (triangle, corner) in [(150_001usize, 2usize), (90_000, 1), (120_000, 0)] {
+        bad.indices[3 * triangle + corner] = n + 2 + triangle as u32;
+    }
+    let expected = MeshError::IndexOutOfRange { triangle: 90_000, index: n + 2 + 90_000, count: n as usize + 2 };
+    assert_eq!(Mesh::compile(&bad), Err(expected));
+    let mut nan = good.clone();
+    for i in [170_000, 60_000, 60_001] {
+        nan.positions[i].y = f32::NAN;
+    }
+    assert_eq!(Mesh::compile(&nan), Err(MeshError::NonFinite(60_000)));
+    // Triangles with a repeated corner are dropped, as one serial pass finds them.
+    let mut flat = good.clone();
+    for t in (0..n as usize).step_by(5) {
+        flat.indices[3 * t + 2] = flat.indices[3 * t];
+    }
+    let corners = |t: &[u32]| [t[0], t[1], t[2]].map(|i| flat.positions[i as usize]);
+    let kept = flat.indices.chunks(3).filter(|t| super::has_area(corners(t)[0], corners(t)[1], corners(t)[2])).count();
+    assert!(kept <= (n - n.div_ceil(5)) as usize);
+    let mesh = Mesh::compile(&flat).unwrap();
+    assert_eq!((mesh.triangles.len(), mesh.degenerate), (kept, n as usize - kept));
+}
+
 #[test]
 fn shading_normal_and_uv_are_interpolated() {
     let desc = MeshDesc {
