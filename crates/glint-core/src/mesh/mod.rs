@@ -142,36 +142,32 @@ impl Mesh {
             .collect();
         let degenerate = desc.indices.len() / 3 - triangles.len();
         // Non-finite or zero normals would poison shading; fall back to flat shading.
-        let normals = if desc.normals.par_iter().all(|n| n.is_finite() && n.length_squared() > 0.0) {
-            desc.normals.clone()
-        } else {
-            Vec::new()
-        };
-        let uvs = if desc.uvs.par_iter().all(|uv| uv.is_finite()) { desc.uvs.clone() } else { Vec::new() };
+        let keep_normals = desc.normals.par_iter().all(|n| n.is_finite() && n.length_squared() > 0.0);
+        let keep_uvs = desc.uvs.par_iter().all(|uv| uv.is_finite());
         // Negative or non-finite colours are no colours at all: the material shows plain.
-        let colors = if desc.colors.par_iter().all(|c| c.is_finite() && c.min_element() >= 0.0) {
-            desc.colors.clone()
-        } else {
-            vec![]
-        };
+        let keep_colors = desc.colors.par_iter().all(|c| c.is_finite() && c.min_element() >= 0.0);
+        // The vertex arrays are filled from `desc` once, in their final order, by
+        // `renumber_vertices`.
         let mut mesh = Mesh {
-            positions: desc.positions.clone(),
-            normals,
-            uvs,
-            colors,
+            positions: Vec::new(),
+            normals: Vec::new(),
+            uvs: Vec::new(),
+            colors: Vec::new(),
             triangles,
             bvh: WideBvh::default(),
             degenerate,
             packets: vec![],
         };
-        let (bvh, order) = Bvh::build_blocks_with(mesh.triangles.len(), 4, |i| mesh.triangle_bounds(i));
+        let bounds =
+            |i: usize| mesh.triangles[i].map(|v| desc.positions[v as usize]).into_iter().fold(Aabb::EMPTY, Aabb::grow);
+        let (bvh, order) = Bvh::build_blocks_with(mesh.triangles.len(), 4, bounds);
         // The collapse needs only the tree; the triangles' and vertices' new order only
         // the leaf order. One runs beside the other (renumbering is serial).
         let (wide, ()) = rayon::join(
             || WideBvh::from_binary(&bvh),
             || {
                 mesh.triangles = order.par_iter().map(|&i| mesh.triangles[i as usize]).collect();
-                mesh.renumber_vertices();
+                mesh.renumber_vertices(desc, [keep_normals, keep_uvs, keep_colors]);
             },
         );
         mesh.bvh = wide;
@@ -206,12 +202,13 @@ impl Mesh {
         self.packets = packets;
     }
 
-    /// Stores vertices in the order the (BVH-ordered) triangles first use them, so that
-    /// triangles near each other in space read vertices near each other in memory;
-    /// vertices no triangle uses are dropped.
-    fn renumber_vertices(&mut self) {
-        let mut new_index = vec![u32::MAX; self.positions.len()];
-        let mut old_of_new = Vec::with_capacity(self.positions.len());
+    /// Stores the vertices of `source` in the order the (BVH-ordered) triangles first use
+    /// them, so that triangles near each other in space read vertices near each other in
+    /// memory; vertices no triangle uses are dropped. `keep` says which of the normals,
+    /// uvs and colours of `source` passed validation.
+    fn renumber_vertices(&mut self, source: &MeshDesc, [normals, uvs, colors]: [bool; 3]) {
+        let mut new_index = vec![u32::MAX; source.positions.len()];
+        let mut old_of_new = Vec::with_capacity(source.positions.len());
         for tri in &mut self.triangles {
             for i in tri.iter_mut() {
                 let slot = &mut new_index[*i as usize];
@@ -222,26 +219,21 @@ impl Mesh {
                 *i = *slot;
             }
         }
-        let gather = |v: &[Vec3]| old_of_new.iter().map(|&i| v[i as usize]).collect::<Vec<_>>();
-        self.positions = gather(&self.positions);
-        if !self.normals.is_empty() {
-            self.normals = gather(&self.normals);
+        fn gather<T: Copy + Send + Sync>(order: &[u32], values: &[T], keep: bool) -> Vec<T> {
+            if !keep || values.is_empty() {
+                return Vec::new();
+            }
+            order.par_iter().map(|&i| values[i as usize]).collect()
         }
-        if !self.uvs.is_empty() {
-            self.uvs = old_of_new.iter().map(|&i| self.uvs[i as usize]).collect();
-        }
-        if !self.colors.is_empty() {
-            self.colors = gather(&self.colors);
-        }
+        self.positions = gather(&old_of_new, &source.positions, true);
+        self.normals = gather(&old_of_new, &source.normals, normals);
+        self.uvs = gather(&old_of_new, &source.uvs, uvs);
+        self.colors = gather(&old_of_new, &source.colors, colors);
     }
 
     #[inline]
     fn vertices(&self, triangle: usize) -> [Vec3; 3] {
         self.triangles[triangle].map(|i| self.positions[i as usize])
-    }
-
-    fn triangle_bounds(&self, triangle: usize) -> Aabb {
-        self.vertices(triangle).into_iter().fold(Aabb::EMPTY, Aabb::grow)
     }
 
     /// Object-space bounds of every triangle.
