@@ -323,8 +323,10 @@ impl Bvh {
             (0..count).into_par_iter().map(|i| PrimRef::new(&bounds_of(i), i as u32)).collect();
         let extents =
             prims.par_chunks(PARALLEL_BINNING_CHUNK).map(Extents::of).reduce(|| Extents::EMPTY, Extents::merge);
-        // Zeroed lazily by the OS: the pages of slots no subtree uses are never touched.
-        let mut nodes = vec![BvhNode::zeroed(); 2 * count];
+        // Zeroed lazily by the OS (allocated zeroed, not written): the pages of slots no
+        // subtree uses are never touched. (`vec![BvhNode::zeroed(); n]` would write every
+        // one of them: only primitive types get a zeroed allocation from `vec!`.)
+        let mut nodes: Vec<BvhNode> = bytemuck::zeroed_vec(2 * count);
         let mut leaf_preferred = vec![false; 2 * count];
         let (root_node, rest) = nodes.split_at_mut(2);
         let (root_leaf, rest_leaf) = leaf_preferred.split_at_mut(2);
