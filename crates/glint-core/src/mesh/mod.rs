@@ -120,21 +120,17 @@ impl Mesh {
                 return Err(MeshError::AttributeCount { what, found, count });
             }
         }
-        let corners = |tri: &[u32]| [tri[0], tri[1], tri[2]];
-        if let Some((triangle, &index)) = desc
-            .indices
-            .par_chunks_exact(3)
-            .enumerate()
-            .filter_map(|(triangle, tri)| Some(triangle).zip(tri.iter().find(|&&i| i as usize >= count)))
-            .find_first(|_| true)
-        {
+        let out_of_range = desc.indices.par_chunks_exact(3).enumerate().find_map_first(|(triangle, tri)| {
+            tri.iter().find(|&&i| i as usize >= count).map(|&index| (triangle, index))
+        });
+        if let Some((triangle, index)) = out_of_range {
             return Err(MeshError::IndexOutOfRange { triangle, index, count });
         }
         // Kept in their order: the parallel filter collects as the serial one would.
         let triangles: Vec<[u32; 3]> = desc
             .indices
             .par_chunks_exact(3)
-            .map(corners)
+            .map(|tri| [tri[0], tri[1], tri[2]])
             .filter(|tri| {
                 let [a, b, c] = tri.map(|i| desc.positions[i as usize]);
                 has_area(a, b, c)
