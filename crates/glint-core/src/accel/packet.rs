@@ -17,6 +17,12 @@ use crate::math::Ray;
 /// Rays in one packet.
 pub const PACKET: usize = 8;
 
+/// In [`WideBvh::traverse_hybrid`], the most rays entering an inner node that go on
+/// through it alone rather than as a packet. Chosen by instruction counts on the bench
+/// mesh's random rays (2 to 4 alike; 0, no switching, and 8, always alone, both worse)
+/// and left camera-ray packets as they were.
+pub const SWITCH: u32 = 3;
+
 /// One stack entry: a node or leaf, the rays that entered it, and the nearest of their
 /// entry distances.
 #[derive(Clone, Copy)]
@@ -65,7 +71,46 @@ impl WideBvh {
         rays: &[Ray],
         active: u32,
         t_max: &mut [f32; PACKET],
+        visit: impl FnMut(u32, u32, &mut [f32; PACKET]) -> u32,
+    ) {
+        self.traverse_packet_or_alone::<L, P, false>(lanes, leaves, rays, active, t_max, visit, |_, _, _| false);
+    }
+
+    /// [`WideBvh::traverse_packet`], except that where no more than [`SWITCH`] rays
+    /// enter an inner node, each of them goes on alone through its subtree:
+    /// `alone(ray, node, t_max)` traces ray `ray` from inner node `node` (with
+    /// [`WideBvh::traverse_from`]), may shrink its `t_max` and returns whether it is done.
+    /// This is Embree's hybrid traversal: incoherent rays part ways within a few levels,
+    /// and a packet of one or two rays is a single ray with the packet's bookkeeping
+    /// added. `alone` is a closure of its own, rather than the single-ray walk calling
+    /// `visit`, so that each closure has one call site and is inlined into the caller's
+    /// AVX2 code.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    pub fn traverse_hybrid<L: Lanes, P>(
+        &self,
+        lanes: L,
+        leaves: &[P],
+        rays: &[Ray],
+        active: u32,
+        t_max: &mut [f32; PACKET],
+        visit: impl FnMut(u32, u32, &mut [f32; PACKET]) -> u32,
+        alone: impl FnMut(usize, u32, &mut f32) -> bool,
+    ) {
+        self.traverse_packet_or_alone::<L, P, true>(lanes, leaves, rays, active, t_max, visit, alone);
+    }
+
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn traverse_packet_or_alone<L: Lanes, P, const HYBRID: bool>(
+        &self,
+        lanes: L,
+        leaves: &[P],
+        rays: &[Ray],
+        active: u32,
+        t_max: &mut [f32; PACKET],
         mut visit: impl FnMut(u32, u32, &mut [f32; PACKET]) -> u32,
+        mut alone: impl FnMut(usize, u32, &mut f32) -> bool,
     ) {
         assert!(rays.len() <= PACKET, "a packet holds at most {PACKET} rays");
         let active = active & ((1u32 << rays.len()) - 1);
@@ -99,6 +144,15 @@ impl WideBvh {
                     if rays & !done == 0 {
                         break;
                     }
+                }
+                if done == active {
+                    return;
+                }
+                continue;
+            }
+            if HYBRID && rays.count_ones() <= SWITCH {
+                for r in bits(rays) {
+                    done |= u32::from(alone(r, entry.index, &mut t_max[r])) << r;
                 }
                 if done == active {
                     return;
@@ -141,7 +195,97 @@ impl WideBvh {
 
 #[cfg(test)]
 mod tests {
+    use glam::Vec3;
+
     use super::*;
+    use crate::accel::lanes::Portable;
+    use crate::accel::{Bvh, Order};
+    use crate::math::Aabb;
+
+    /// For each ray, the sorted primitives a traversal visited it with.
+    type Visited = Vec<Vec<u32>>;
+
+    /// Per ray, the packet walk, the hybrid walk (whose rays go on alone where at most
+    /// [`SWITCH`] enter a node) and the single-ray walk visit the very same primitives,
+    /// for packets that fan out a little (camera rays) and packets of unrelated rays,
+    /// of every size and with rays masked out.
+    #[test]
+    fn hybrid_and_packet_walks_visit_what_single_rays_visit() {
+        let mut rng = crate::sampling::Rng::new(11);
+        let mut next = move || rng.next_f32();
+        let boxes: Vec<Aabb> = (0..4000)
+            .map(|_| {
+                let c = Vec3::new(next(), next(), next()) * 20.0 - 10.0;
+                let h = Vec3::new(next(), next(), next()) * 0.8;
+                Aabb::new(c - h, c + h)
+            })
+            .collect();
+        let wide = WideBvh::from_binary(&Bvh::build(&boxes).0);
+        let mut switched = 0;
+        for i in 0..400 {
+            let coherent = i % 2 == 0;
+            let base = Vec3::new(next(), next(), next()) * 2.0 - 1.0;
+            let origin = Vec3::new(next(), next(), next()) * 30.0 - 15.0;
+            let rays: Vec<Ray> = (0..1 + i % PACKET)
+                .map(|_| {
+                    let jitter = Vec3::new(next(), next(), next()) * 2.0 - 1.0;
+                    if coherent {
+                        Ray::new(origin, base + 0.05 * jitter)
+                    } else {
+                        Ray::new(Vec3::new(next(), next(), next()) * 30.0 - 15.0, jitter)
+                    }
+                })
+                .collect();
+            let active = if i % 5 == 0 { 0b1011_0110 } else { u32::MAX } & ((1 << rays.len()) - 1);
+            let mut single: Visited = vec![Vec::new(); rays.len()];
+            for r in bits(active) {
+                wide.traverse(&rays[r], &mut { f32::INFINITY }, |prim, _| {
+                    single[r].push(prim);
+                    false
+                });
+            }
+            let mut packet: Visited = vec![Vec::new(); rays.len()];
+            wide.traverse_packet::<_, ()>(Portable, &[], &rays, active, &mut [f32::INFINITY; PACKET], |prim, m, _| {
+                bits(m).for_each(|r| packet[r].push(prim));
+                0
+            });
+            let hybrid = std::cell::RefCell::new(vec![Vec::new(); rays.len()]);
+            wide.traverse_hybrid::<_, ()>(
+                Portable,
+                &[],
+                &rays,
+                active,
+                &mut [f32::INFINITY; PACKET],
+                |prim, m, _| {
+                    bits(m).for_each(|r| hybrid.borrow_mut()[r].push(prim));
+                    0
+                },
+                |r, node, t_max| {
+                    switched += 1;
+                    wide.traverse_from::<_, ()>(
+                        Portable,
+                        Order::NearestFirst,
+                        &[],
+                        &rays[r],
+                        node,
+                        t_max,
+                        |prim, _| {
+                            hybrid.borrow_mut()[r].push(prim);
+                            false
+                        },
+                    );
+                    false
+                },
+            );
+            let mut hybrid = hybrid.into_inner();
+            for visited in [&mut single, &mut packet, &mut hybrid] {
+                visited.iter_mut().for_each(|v| v.sort());
+            }
+            assert_eq!(single, packet, "packet {i}");
+            assert_eq!(single, hybrid, "packet {i}");
+        }
+        assert!(switched > 100, "rays went on alone {switched} times");
+    }
 
     #[test]
     fn transpose_moves_each_bit_across_the_diagonal() {

@@ -119,17 +119,34 @@ impl WideBvh {
         leaves: &[P],
         ray: &Ray,
         t_max: &mut f32,
+        visit: impl FnMut(u32, &mut f32) -> bool,
+    ) {
+        if !self.nodes.is_empty() {
+            self.traverse_from(lanes, order, leaves, ray, 0, t_max, visit);
+        }
+    }
+
+    /// [`WideBvh::traverse_with`] over the subtree of inner node `root` only: a packet
+    /// whose rays have parted ways goes on with each of them alone from where it split
+    /// ([`WideBvh::traverse_hybrid`]).
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    pub fn traverse_from<L: Lanes, P>(
+        &self,
+        lanes: L,
+        order: Order,
+        leaves: &[P],
+        ray: &Ray,
+        root: u32,
+        t_max: &mut f32,
         mut visit: impl FnMut(u32, &mut f32) -> bool,
     ) {
-        if self.nodes.is_empty() {
-            return;
-        }
         let slab = SlabRay::new(lanes, ray);
         // (index, count, entry distance); count 0 = inner node. Left uninitialized: zeroing
         // 5 KiB per ray cost more than a slab test.
         let mut stack = [MaybeUninit::<(u32, u32, f32)>::uninit(); STACK];
         let mut top = 0;
-        let mut next = Some((0u32, 0u32, 0.0f32));
+        let mut next = Some((root, 0u32, 0.0f32));
         loop {
             // A child of the node just tested is visited straight away rather than pushed
             // and at once popped again; otherwise the top of the stack.

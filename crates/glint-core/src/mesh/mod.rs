@@ -338,7 +338,7 @@ impl Mesh {
     ) {
         assert!(rays.len() <= PACKET, "at most {PACKET} rays");
         let (wrays, valid) = Self::packet_rays(rays);
-        self.bvh.traverse_packet(lanes, &self.packets, rays, active & valid, t_max, |packet, in_leaf, t| {
+        let in_packet = |packet, in_leaf, t: &mut [f32; PACKET], hits: &mut [Option<ShapeHit>; PACKET]| {
             let packet = &self.packets[packet as usize];
             for r in bits(in_leaf) {
                 if let Some(w) = &wrays[r]
@@ -348,24 +348,66 @@ impl Mesh {
                     hits[r] = Some(ShapeHit { t: t_hit, part: tri });
                 }
             }
-            0
-        });
+        };
+        // Both closures write `hits`, one at a time: a cell lends it to each.
+        let hits = std::cell::RefCell::new(hits);
+        self.bvh.traverse_hybrid(
+            lanes,
+            &self.packets,
+            rays,
+            active & valid,
+            t_max,
+            |packet, in_leaf, t| {
+                in_packet(packet, in_leaf, t, &mut hits.borrow_mut());
+                0
+            },
+            |r, node, t_max| {
+                // Only rays with a watertight form are active.
+                let Some(w) = &wrays[r] else { return false };
+                let (ray, hit) = (&rays[r], &mut hits.borrow_mut()[r]);
+                self.bvh.traverse_from(lanes, Order::NearestFirst, &self.packets, ray, node, t_max, |packet, t_max| {
+                    if let Some((t, tri)) = triangle4::intersect(w, &self.packets[packet as usize], *t_max) {
+                        *t_max = t;
+                        *hit = Some(ShapeHit { t, part: tri });
+                    }
+                    false
+                });
+                false
+            },
+        );
     }
 
     #[inline(always)]
     fn occluded_packet_on<L: Lanes>(&self, lanes: L, rays: &[Ray], t_max: f32) -> u32 {
         assert!(rays.len() <= PACKET, "at most {PACKET} rays");
         let (wrays, active) = Self::packet_rays(rays);
-        let mut blocked = 0;
-        self.bvh.traverse_packet(lanes, &self.packets, rays, active, &mut [t_max; PACKET], |packet, in_leaf, t| {
-            let packet = &self.packets[packet as usize];
-            let now = bits(in_leaf)
-                .filter(|&r| wrays[r].as_ref().is_some_and(|w| triangle4::occluded(w, packet, t[r])))
-                .fold(0, |m, r| m | 1 << r);
-            blocked |= now;
-            now
-        });
-        blocked
+        let blocked = std::cell::Cell::new(0);
+        self.bvh.traverse_hybrid(
+            lanes,
+            &self.packets,
+            rays,
+            active,
+            &mut [t_max; PACKET],
+            |packet, in_leaf, t| {
+                let packet = &self.packets[packet as usize];
+                let now = bits(in_leaf)
+                    .filter(|&r| wrays[r].as_ref().is_some_and(|w| triangle4::occluded(w, packet, t[r])))
+                    .fold(0, |m, r| m | 1 << r);
+                blocked.set(blocked.get() | now);
+                now
+            },
+            |r, node, t_max| {
+                let Some(w) = &wrays[r] else { return false };
+                let mut hit = false;
+                self.bvh.traverse_from(lanes, Order::Any, &self.packets, &rays[r], node, t_max, |packet, t_max| {
+                    hit = triangle4::occluded(w, &self.packets[packet as usize], *t_max);
+                    hit
+                });
+                blocked.set(blocked.get() | u32::from(hit) << r);
+                hit
+            },
+        );
+        blocked.get()
     }
 
     #[cfg(target_arch = "x86_64")]
