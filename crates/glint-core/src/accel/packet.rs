@@ -11,7 +11,7 @@
 use std::mem::MaybeUninit;
 
 use super::lanes::{F32x8, Lanes};
-use super::wide::{STACK, SlabRay, WIDTH, WideBvh, insert_farthest_first};
+use super::wide::{Order, STACK, SlabRay, WIDTH, WideBvh, insert_farthest_first};
 use crate::math::Ray;
 
 /// Rays in one packet.
@@ -45,6 +45,18 @@ pub fn bits(mut mask: u32) -> impl Iterator<Item = usize> {
     })
 }
 
+/// Whether the rays of mask `active` all travel into one octant (the same signs of
+/// their direction's components). Rays of different octants share few nodes below the
+/// root; Embree's hybrid walk, too, keeps only rays of one octant in a packet.
+#[inline(always)]
+fn one_octant(rays: &[Ray], active: u32) -> bool {
+    let (all, any) = bits(active).fold((7, 0), |(all, any), r| {
+        let signs = rays[r].dir.is_negative_bitmask();
+        (all & signs, any | signs)
+    });
+    all == any
+}
+
 /// Transposes an 8×8 bit matrix whose row `i` is byte `i`: bit `j` of byte `i` moves
 /// to bit `i` of byte `j` (Warren, "Hacker's Delight", §7-3).
 #[inline(always)]
@@ -73,16 +85,21 @@ impl WideBvh {
         t_max: &mut [f32; PACKET],
         visit: impl FnMut(u32, u32, &mut [f32; PACKET]) -> u32,
     ) {
-        self.traverse_packet_or_alone::<L, P, false>(lanes, leaves, rays, active, t_max, visit, |_, _, _| false);
+        let nearest = Order::NearestFirst;
+        self.traverse_packet_or_alone::<L, P, false>(lanes, nearest, leaves, rays, active, t_max, visit, |_, _, _| {
+            false
+        });
     }
 
-    /// [`WideBvh::traverse_packet`], except that where no more than [`SWITCH`] rays
+    /// [`WideBvh::traverse_packet`], children in `order` (any-hit rays keep their
+    /// `t_max` until they are done, so they need neither sorting nor distances), and
+    /// where no more than [`SWITCH`] rays
     /// enter an inner node, each of them goes on alone through its subtree:
     /// `alone(ray, node, t_max)` traces ray `ray` from inner node `node` (with
     /// [`WideBvh::traverse_from`]), may shrink its `t_max` and returns whether it is done.
     /// This is Embree's hybrid traversal: incoherent rays part ways within a few levels,
     /// and a packet of one or two rays is a single ray with the packet's bookkeeping
-    /// added. `alone` is a closure of its own, rather than the single-ray walk calling
+    /// added. Rays into different octants go on alone from the root. `alone` is a closure of its own, rather than the single-ray walk calling
     /// `visit`, so that each closure has one call site and is inlined into the caller's
     /// AVX2 code.
     #[inline(always)]
@@ -90,6 +107,7 @@ impl WideBvh {
     pub fn traverse_hybrid<L: Lanes, P>(
         &self,
         lanes: L,
+        order: Order,
         leaves: &[P],
         rays: &[Ray],
         active: u32,
@@ -97,7 +115,7 @@ impl WideBvh {
         visit: impl FnMut(u32, u32, &mut [f32; PACKET]) -> u32,
         alone: impl FnMut(usize, u32, &mut f32) -> bool,
     ) {
-        self.traverse_packet_or_alone::<L, P, true>(lanes, leaves, rays, active, t_max, visit, alone);
+        self.traverse_packet_or_alone::<L, P, true>(lanes, order, leaves, rays, active, t_max, visit, alone);
     }
 
     #[inline(always)]
@@ -105,6 +123,7 @@ impl WideBvh {
     fn traverse_packet_or_alone<L: Lanes, P, const HYBRID: bool>(
         &self,
         lanes: L,
+        order: Order,
         leaves: &[P],
         rays: &[Ray],
         active: u32,
@@ -117,6 +136,9 @@ impl WideBvh {
         if self.nodes.is_empty() || active == 0 {
             return;
         }
+        // Rays into different octants part ways at once: they go on alone from the root
+        // (the switch below, taken at once: one call site of `alone`, so it is inlined).
+        let mut scattered = HYBRID && !one_octant(rays, active);
         let slabs: [SlabRay<L>; PACKET] = std::array::from_fn(|r| SlabRay::new(lanes, &rays[r.min(rays.len() - 1)]));
         let mut done = 0u32;
         // Left uninitialized, as in the single-ray traversal.
@@ -133,8 +155,14 @@ impl WideBvh {
                 }
                 None => return,
             };
-            // Rays done, or whose closest hit so far is nearer than the node.
-            let rays = bits(entry.rays & !done).fold(0, |m, r| m | u32::from(entry.t_enter <= t_max[r]) << r);
+            // Rays done, or whose closest hit so far is nearer than the node (any-hit
+            // rays keep their `t_max` until they are done).
+            let rays = match order {
+                Order::Any => entry.rays & !done,
+                Order::NearestFirst => {
+                    bits(entry.rays & !done).fold(0, |m, r| m | u32::from(entry.t_enter <= t_max[r]) << r)
+                }
+            };
             if rays == 0 {
                 continue;
             }
@@ -150,7 +178,8 @@ impl WideBvh {
                 }
                 continue;
             }
-            if HYBRID && rays.count_ones() <= SWITCH {
+            if HYBRID && (scattered || rays.count_ones() <= SWITCH) {
+                scattered = false;
                 for r in bits(rays) {
                     done |= u32::from(alone(r, entry.index, &mut t_max[r])) << r;
                 }
@@ -164,6 +193,10 @@ impl WideBvh {
             let mut entered = 0u64;
             let mut child_near = lanes.splat(f32::INFINITY);
             for r in bits(rays) {
+                if order == Order::Any {
+                    entered |= u64::from(slabs[r].test(n, t_max[r]).1) << (8 * r);
+                    continue;
+                }
                 let (near, mask) = slabs[r].test_or_infinity(n, t_max[r]);
                 entered |= u64::from(mask) << (8 * r);
                 child_near = child_near.min(near);
@@ -174,6 +207,22 @@ impl WideBvh {
             // Transposed, byte `lane` is the mask of rays that entered child `lane`.
             let child_rays = transpose_8x8(entered).to_le_bytes();
             let hit = child_rays.iter().enumerate().fold(0u32, |m, (lane, &r)| m | u32::from(r != 0) << lane);
+            if order == Order::Any {
+                // Children as they come: the first is next, the rest are pushed.
+                let mut hit = hit;
+                let entry = |lane: usize| {
+                    let (index, count) = (n.child[lane], n.count[lane]);
+                    self.prefetch_child(leaves, index, count);
+                    Entry { index, count, rays: u32::from(child_rays[lane]), t_enter: 0.0 }
+                };
+                next = Some(entry(hit.trailing_zeros() as usize));
+                hit &= hit - 1;
+                for lane in bits(hit) {
+                    stack[top].write(entry(lane));
+                    top += 1;
+                }
+                continue;
+            }
             let child_near = child_near.to_array();
             // Farthest first into `sorted`; all but the nearest are pushed.
             let mut sorted = [Entry { index: 0, count: 0, rays: 0, t_enter: 0.0 }; WIDTH];
@@ -249,40 +298,36 @@ mod tests {
                 bits(m).for_each(|r| packet[r].push(prim));
                 0
             });
-            let hybrid = std::cell::RefCell::new(vec![Vec::new(); rays.len()]);
-            wide.traverse_hybrid::<_, ()>(
-                Portable,
-                &[],
-                &rays,
-                active,
-                &mut [f32::INFINITY; PACKET],
-                |prim, m, _| {
-                    bits(m).for_each(|r| hybrid.borrow_mut()[r].push(prim));
-                    0
-                },
-                |r, node, t_max| {
-                    switched += 1;
-                    wide.traverse_from::<_, ()>(
-                        Portable,
-                        Order::NearestFirst,
-                        &[],
-                        &rays[r],
-                        node,
-                        t_max,
-                        |prim, _| {
-                            hybrid.borrow_mut()[r].push(prim);
-                            false
-                        },
-                    );
-                    false
-                },
-            );
-            let mut hybrid = hybrid.into_inner();
-            for visited in [&mut single, &mut packet, &mut hybrid] {
+            for visited in [&mut single, &mut packet] {
                 visited.iter_mut().for_each(|v| v.sort());
             }
             assert_eq!(single, packet, "packet {i}");
-            assert_eq!(single, hybrid, "packet {i}");
+            for order in [Order::NearestFirst, Order::Any] {
+                let hybrid = std::cell::RefCell::new(vec![Vec::new(); rays.len()]);
+                wide.traverse_hybrid::<_, ()>(
+                    Portable,
+                    order,
+                    &[],
+                    &rays,
+                    active,
+                    &mut [f32::INFINITY; PACKET],
+                    |prim, m, _| {
+                        bits(m).for_each(|r| hybrid.borrow_mut()[r].push(prim));
+                        0
+                    },
+                    |r, node, t_max| {
+                        switched += 1;
+                        wide.traverse_from::<_, ()>(Portable, order, &[], &rays[r], node, t_max, |prim, _| {
+                            hybrid.borrow_mut()[r].push(prim);
+                            false
+                        });
+                        false
+                    },
+                );
+                let mut hybrid = hybrid.into_inner();
+                hybrid.iter_mut().for_each(|v| v.sort());
+                assert_eq!(single, hybrid, "packet {i}, {order:?}");
+            }
         }
         assert!(switched > 100, "rays went on alone {switched} times");
     }

@@ -353,6 +353,7 @@ impl Mesh {
         let hits = std::cell::RefCell::new(hits);
         self.bvh.traverse_hybrid(
             lanes,
+            Order::NearestFirst,
             &self.packets,
             rays,
             active & valid,
@@ -384,6 +385,7 @@ impl Mesh {
         let blocked = std::cell::Cell::new(0);
         self.bvh.traverse_hybrid(
             lanes,
+            Order::Any,
             &self.packets,
             rays,
             active,
