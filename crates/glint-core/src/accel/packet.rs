@@ -93,13 +93,13 @@ impl WideBvh {
 
     /// [`WideBvh::traverse_packet`], children in `order` (any-hit rays keep their
     /// `t_max` until they are done, so they need neither sorting nor distances), and
-    /// where no more than [`SWITCH`] rays
-    /// enter an inner node, each of them goes on alone through its subtree:
-    /// `alone(ray, node, t_max)` traces ray `ray` from inner node `node` (with
-    /// [`WideBvh::traverse_from`]), may shrink its `t_max` and returns whether it is done.
-    /// This is Embree's hybrid traversal: incoherent rays part ways within a few levels,
-    /// and a packet of one or two rays is a single ray with the packet's bookkeeping
-    /// added. Rays into different octants go on alone from the root. `alone` is a closure of its own, rather than the single-ray walk calling
+    /// where no more than [`SWITCH`] rays enter an inner node, each of them goes on alone
+    /// through its subtree: `alone(ray, node, t_max)` traces ray `ray` from inner node
+    /// `node` (with [`WideBvh::traverse_from`]), may shrink its `t_max` and returns
+    /// whether it is done. This is Embree's hybrid traversal: incoherent rays part ways
+    /// within a few levels, and a packet of one or two rays is a single ray with the
+    /// packet's bookkeeping added. Rays into different octants go on alone from the
+    /// root. `alone` is a closure of its own, rather than the single-ray walk calling
     /// `visit`, so that each closure has one call site and is inlined into the caller's
     /// AVX2 code.
     #[inline(always)]

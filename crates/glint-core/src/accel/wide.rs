@@ -121,9 +121,7 @@ impl WideBvh {
         t_max: &mut f32,
         visit: impl FnMut(u32, &mut f32) -> bool,
     ) {
-        if !self.nodes.is_empty() {
-            self.traverse_from(lanes, order, leaves, ray, 0, t_max, visit);
-        }
+        self.traverse_from(lanes, order, leaves, ray, 0, t_max, visit);
     }
 
     /// [`WideBvh::traverse_with`] over the subtree of inner node `root` only: a packet
@@ -141,6 +139,9 @@ impl WideBvh {
         t_max: &mut f32,
         mut visit: impl FnMut(u32, &mut f32) -> bool,
     ) {
+        if self.nodes.is_empty() {
+            return;
+        }
         let slab = SlabRay::new(lanes, ray);
         // (index, count, entry distance); count 0 = inner node. Left uninitialized: zeroing
         // 5 KiB per ray cost more than a slab test.

@@ -338,17 +338,6 @@ impl Mesh {
     ) {
         assert!(rays.len() <= PACKET, "at most {PACKET} rays");
         let (wrays, valid) = Self::packet_rays(rays);
-        let in_packet = |packet, in_leaf, t: &mut [f32; PACKET], hits: &mut [Option<ShapeHit>; PACKET]| {
-            let packet = &self.packets[packet as usize];
-            for r in bits(in_leaf) {
-                if let Some(w) = &wrays[r]
-                    && let Some((t_hit, tri)) = triangle4::intersect(w, packet, t[r])
-                {
-                    t[r] = t_hit;
-                    hits[r] = Some(ShapeHit { t: t_hit, part: tri });
-                }
-            }
-        };
         // Both closures write `hits`, one at a time: a cell lends it to each.
         let hits = std::cell::RefCell::new(hits);
         self.bvh.traverse_hybrid(
@@ -359,9 +348,20 @@ impl Mesh {
             active & valid,
             t_max,
             |packet, in_leaf, t| {
-                in_packet(packet, in_leaf, t, &mut hits.borrow_mut());
+                let packet = &self.packets[packet as usize];
+                for r in bits(in_leaf) {
+                    if let Some(w) = &wrays[r]
+                        && let Some((t_hit, tri)) = triangle4::intersect(w, packet, t[r])
+                    {
+                        t[r] = t_hit;
+                        hits.borrow_mut()[r] = Some(ShapeHit { t: t_hit, part: tri });
+                    }
+                }
                 0
             },
+            // The leaf test of `intersect_on`, written again rather than shared: a shared
+            // function's closure has two callers and is then called, not inlined, and
+            // runs without AVX2 (measured: the packets' instructions moved into it).
             |r, node, t_max| {
                 // Only rays with a watertight form are active.
                 let Some(w) = &wrays[r] else { return false };
@@ -398,6 +398,7 @@ impl Mesh {
                 blocked.set(blocked.get() | now);
                 now
             },
+            // `occluded_on`'s leaf test, written again for the reason given above.
             |r, node, t_max| {
                 let Some(w) = &wrays[r] else { return false };
                 let mut hit = false;
