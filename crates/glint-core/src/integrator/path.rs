@@ -69,41 +69,159 @@ pub fn radiance(
     counters: &mut Counters,
     mut aov: Option<&mut Aov>,
 ) -> Vec3 {
-    let limits = match scene.settings.integrator {
-        crate::desc::IntegratorDesc::Path(p) => p,
-        crate::desc::IntegratorDesc::Whitted => PathDesc::default(),
-    };
-    if limits.max_depth == 0 {
-        return Vec3::ZERO;
+    let mut path = PathState::new(scene, ray, counters);
+    while let Some(ray) = path.next_ray() {
+        let hit = scene.intersect(&ray, f32::INFINITY);
+        path.advance(scene, hit, sampler, counters, aov.take());
+        if let Some(shadow) = path.shadow_ray() {
+            let blocked = scene.occluded(&shadow.ray, shadow.t_max);
+            path.resolve_shadow(blocked, counters);
+        }
     }
-    let mut radiance = Vec3::ZERO;
-    let mut throughput = Vec3::ONE;
-    let mut eta = 1.0f32;
-    let mut ray = *ray;
-    let mut previous: Option<Bounce> = None;
-    let mut depth = 0u32;
-    loop {
-        counters.rays += 1;
-        let Some(hit) = scene.intersect(&ray, f32::INFINITY) else {
-            radiance += throughput * environment_light(scene, &ray, previous);
-            break;
+    path.radiance()
+}
+
+/// A shadow ray a path waits on: the light it brings if nothing blocks it.
+#[derive(Clone, Copy)]
+pub struct ShadowRay {
+    pub ray: Ray,
+    /// The segment `0 < t < t_max` that must be clear.
+    pub t_max: f32,
+    /// Throughput times the MIS-weighted light sample: what the path gains.
+    light: Vec3,
+    /// The surface it leaves from, to blame should the light make the path non-finite.
+    from: Hit,
+}
+
+/// Where a path stands between two rays.
+#[derive(Clone, Copy, PartialEq)]
+enum Stage {
+    /// Its next ray is `ray`, to be traced.
+    Tracing,
+    /// It has ended; `radiance` is its value.
+    Done,
+    /// A BSDF sample weighed NaN or infinity: the whole sample is void.
+    Void,
+}
+
+/// A random walk from the camera between its rays: what it has gathered and what it
+/// carries to the next vertex. The path asks for one closest-hit ray at a time
+/// ([`PathState::next_ray`]) and, after each vertex, for at most one shadow ray
+/// ([`PathState::shadow_ray`]); whoever traces them — one path alone, or a wave of
+/// paths side by side — hands the answers back, and the path's value is the same
+/// either way.
+#[derive(Clone, Copy)]
+pub struct PathState {
+    radiance: Vec3,
+    throughput: Vec3,
+    eta: f32,
+    ray: Ray,
+    previous: Option<Bounce>,
+    depth: u32,
+    limits: PathDesc,
+    shadow: Option<ShadowRay>,
+    stage: Stage,
+}
+
+impl PathState {
+    /// A path about to trace camera ray `ray` (already counted in `counters`).
+    #[inline(always)]
+    pub fn new(scene: &RenderScene, ray: &Ray, counters: &mut Counters) -> Self {
+        let limits = match scene.settings.integrator {
+            crate::desc::IntegratorDesc::Path(p) => p,
+            crate::desc::IntegratorDesc::Whitted => PathDesc::default(),
+        };
+        let stage = if limits.max_depth == 0 { Stage::Done } else { Stage::Tracing };
+        if stage == Stage::Tracing {
+            counters.rays += 1;
+        }
+        PathState {
+            radiance: Vec3::ZERO,
+            throughput: Vec3::ONE,
+            eta: 1.0,
+            ray: *ray,
+            previous: None,
+            depth: 0,
+            limits,
+            shadow: None,
+            stage,
+        }
+    }
+
+    /// The closest-hit ray the path waits on, if it goes on (and no shadow ray is
+    /// pending).
+    #[inline(always)]
+    pub fn next_ray(&self) -> Option<Ray> {
+        (self.stage == Stage::Tracing && self.shadow.is_none()).then_some(self.ray)
+    }
+
+    /// The shadow ray the path waits on, if the last vertex took a light sample.
+    #[inline(always)]
+    pub fn shadow_ray(&self) -> Option<&ShadowRay> {
+        self.shadow.as_ref()
+    }
+
+    /// The path's radiance once it has ended (NaN for a void sample).
+    #[inline(always)]
+    pub fn radiance(&self) -> Vec3 {
+        if self.stage == Stage::Void { Vec3::NAN } else { self.radiance }
+    }
+
+    /// Whether the path has ended and waits on nothing.
+    #[inline(always)]
+    pub fn is_done(&self) -> bool {
+        self.stage != Stage::Tracing && self.shadow.is_none()
+    }
+
+    /// Adds the pending light sample unless its shadow ray was `blocked`.
+    #[inline(always)]
+    pub fn resolve_shadow(&mut self, blocked: bool, counters: &mut Counters) {
+        let Some(shadow) = self.shadow.take() else { return };
+        if !blocked {
+            self.radiance += shadow.light;
+        }
+        if !self.radiance.is_finite() && self.stage != Stage::Void {
+            counters.blame(&shadow.from);
+            self.stage = Stage::Done;
+        }
+    }
+
+    /// One vertex: `hit` is where [`PathState::next_ray`] ended (`None`: it left the
+    /// scene). Adds the emission found there, takes a light sample (whose shadow ray
+    /// the caller traces next) and a BSDF sample for the next ray.
+    #[inline(always)]
+    pub fn advance(
+        &mut self,
+        scene: &RenderScene,
+        hit: Option<Hit>,
+        sampler: &mut PathSampler,
+        counters: &mut Counters,
+        aov: Option<&mut Aov>,
+    ) {
+        let ray = self.ray;
+        let Some(hit) = hit else {
+            self.radiance += self.throughput * environment_light(scene, &ray, self.previous);
+            self.stage = Stage::Done;
+            return;
         };
         let wo_world = -ray.dir.normalize();
         let record = &scene.bsdfs[hit.material as usize];
         let mut bsdf = record.at(hit.uv, |i, uv| scene.texture(i, uv));
         bsdf.color *= hit.color;
-        if let Some(aov) = aov.take() {
+        if let Some(aov) = aov {
             *aov = Aov { albedo: bsdf.albedo(), normal: hit.normal, depth: hit.t * ray.dir.length() };
         }
-        radiance += throughput * emitted(scene, &hit, &bsdf, wo_world, previous);
-        if !radiance.is_finite() {
+        self.radiance += self.throughput * emitted(scene, &hit, &bsdf, wo_world, self.previous);
+        if !self.radiance.is_finite() {
             counters.blame(&hit);
-            break;
+            self.stage = Stage::Done;
+            return;
         }
 
         // Mitsuba's counting: a path of max_depth vertices past the camera at most.
-        if depth.saturating_add(1) >= limits.max_depth {
-            break;
+        if self.depth.saturating_add(1) >= self.limits.max_depth {
+            self.stage = Stage::Done;
+            return;
         }
         let frame = Frame::new(hit.normal);
         let wo = frame.to_local(wo_world);
@@ -114,46 +232,47 @@ pub fn radiance(
         let choices = sampler.next_2d();
         let u_light = sampler.next_2d();
         let u_dir = sampler.next_2d();
-        if bsdf.has_non_delta() {
-            radiance +=
-                throughput * direct_light(scene, &hit, &bsdf, &frame, wo, (choices.x, u_light), ray.time, counters);
+        if bsdf.has_non_delta()
+            && let Some((shadow_ray, t_max, value)) =
+                direct_light(scene, &hit, &bsdf, &frame, wo, (choices.x, u_light), ray.time, counters)
+        {
+            let light = self.throughput * value;
+            self.shadow = Some(ShadowRay { ray: shadow_ray, t_max, light, from: hit });
         }
-        if !radiance.is_finite() {
-            counters.blame(&hit);
-            break;
-        }
+        self.stage = Stage::Done;
         let u_lobe = choices.y;
-        let Some(sample) = bsdf.sample(wo, u_lobe, u_dir) else { break };
+        let Some(sample) = bsdf.sample(wo, u_lobe, u_dir) else { return };
         let wi = frame.to_world(sample.wi);
         if !same_side_story(&hit, (wo_world, wi), (wo, sample.wi)) {
-            break;
+            return;
         }
-        throughput *= sample.weight;
-        eta *= sample.eta;
-        ray = Ray::new(offset_ray_origin(hit.point, side_normal(&hit, wi)), wi).at_time(ray.time);
-        previous = Some(Bounce { point: hit.point, pdf: sample.pdf, delta: sample.delta });
-        depth += 1;
+        self.throughput *= sample.weight;
+        self.eta *= sample.eta;
+        self.ray = Ray::new(offset_ray_origin(hit.point, side_normal(&hit, wi)), wi).at_time(ray.time);
+        self.previous = Some(Bounce { point: hit.point, pdf: sample.pdf, delta: sample.delta });
+        self.depth += 1;
 
-        if !throughput.is_finite() {
-            // A BSDF sample weighed NaN or infinity: the whole sample is void.
+        if !self.throughput.is_finite() {
             counters.blame(&hit);
-            return Vec3::NAN;
+            self.stage = Stage::Void;
+            return;
         }
-        let most = throughput.max_element();
+        let most = self.throughput.max_element();
         if most <= 0.0 {
-            break;
+            return;
         }
         // Roulette draws its number only at depths where it plays (the same depths for
         // every path, so dimensions stay aligned).
-        if depth >= limits.rr_depth {
-            let survive = (most * eta * eta).min(0.95);
+        if self.depth >= self.limits.rr_depth {
+            let survive = (most * self.eta * self.eta).min(0.95);
             if sampler.next_1d() >= survive {
-                break;
+                return;
             }
-            throughput /= survive;
+            self.throughput /= survive;
         }
+        self.stage = Stage::Tracing;
+        counters.rays += 1;
     }
-    radiance
 }
 
 /// Whether the shading frame and the true surface agree that `wi` is a reflection (same
@@ -218,7 +337,8 @@ fn environment_light(scene: &RenderScene, ray: &Ray, previous: Option<Bounce>) -
 }
 
 /// One light sample (next-event estimation): an emitter chosen by power, a point or
-/// direction on it, a shadow ray, MIS-weighted against BSDF sampling.
+/// direction on it, MIS-weighted against BSDF sampling. Returns the shadow ray that
+/// decides it (its origin, direction and segment) and the light it brings if clear.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn direct_light(
@@ -230,39 +350,33 @@ fn direct_light(
     (u_select, u): (f32, Vec2),
     time: f32,
     counters: &mut Counters,
-) -> Vec3 {
-    let Some(selection) = &scene.light_selection else { return Vec3::ZERO };
+) -> Option<(Ray, f32, Vec3)> {
+    let selection = scene.light_selection.as_ref()?;
     let (index, _) = selection.sample_discrete(u_select);
     let p_select = selection.probability(index);
     let emitter = &scene.emitters[index];
     let sample = if emitter.kind == EmitterKind::Environment {
-        let Some((wi, radiance, pdf)) = scene.environment.as_ref().and_then(|env| env.sample(u)) else {
-            return Vec3::ZERO;
-        };
+        let (wi, radiance, pdf) = scene.environment.as_ref().and_then(|env| env.sample(u))?;
         LightSample { wi, distance: f32::INFINITY, radiance, pdf, delta: false }
     } else {
-        let Some(s) = emitter.sample(hit.point, u) else { return Vec3::ZERO };
-        s
+        emitter.sample(hit.point, u)?
     };
     if (sample.pdf.is_nan() || sample.pdf <= 0.0) || sample.radiance == Vec3::ZERO {
-        return Vec3::ZERO;
+        return None;
     }
     let wi = frame.to_local(sample.wi);
     if !same_side_story(hit, (frame.to_world(wo), sample.wi), (wo, wi)) {
-        return Vec3::ZERO;
+        return None;
     }
     let f = bsdf.eval(wo, wi) * wi.z.abs();
     if f == Vec3::ZERO {
-        return Vec3::ZERO;
+        return None;
     }
     counters.rays += 1;
     let origin = offset_ray_origin(hit.point, side_normal(hit, sample.wi));
     // Stop just short of the sampled point, which lies on the emitter itself.
     let t_max = if sample.distance.is_finite() { sample.distance * (1.0 - 1e-4) } else { f32::INFINITY };
-    if scene.occluded(&Ray::new(origin, sample.wi).at_time(time), t_max) {
-        return Vec3::ZERO;
-    }
     let light_pdf = p_select * sample.pdf;
     let weight = if sample.delta { 1.0 } else { power_heuristic(light_pdf, bsdf.pdf(wo, wi)) };
-    f * sample.radiance * (weight / light_pdf)
+    Some((Ray::new(origin, sample.wi).at_time(time), t_max, f * sample.radiance * (weight / light_pdf)))
 }
