@@ -21,12 +21,14 @@ use crate::mesh::Mesh;
 use crate::sampling::{Filter, PixelSampler};
 use crate::shape::{Shape, ShapeKind, ShapeTables};
 
+mod few;
 mod lighting;
 mod motion;
 mod packet;
 mod solids;
 
 use crate::texture::Texture;
+pub use few::{FewObjects, NO_OBJECT, RayWave, WAVE, WaveHits};
 pub use motion::{Motion, NO_MOTION, Pose};
 
 /// One placed primitive: the shape, where it is (`M` and `M⁻¹`) and what it is made of.
@@ -119,6 +121,9 @@ pub struct RenderScene {
     pub environment: Option<Environment>,
     /// Index of the environment's record in `emitters`.
     pub environment_emitter: u32,
+    /// The instances as eight-ray lanes read them, when the scene is a handful of
+    /// analytic objects: the path tracer then traces waves of rays through them.
+    pub few_objects: Option<FewObjects>,
 }
 
 /// The closest intersection, with world-space surface data.
@@ -263,7 +268,7 @@ pub fn compile(desc: &SceneDesc) -> Result<RenderScene, CompileError> {
     let bsdfs: Vec<Bsdf> = desc.materials.iter().map(Bsdf::compile).collect();
     let has_shadowless = desc.materials.iter().any(|m| !m.casts_shadows);
     let lighting = lighting::compile(desc, &instances, &meshes, &bsdfs, bvh.bounds())?;
-    Ok(RenderScene {
+    let mut scene = RenderScene {
         settings,
         camera,
         instances,
@@ -284,7 +289,10 @@ pub fn compile(desc: &SceneDesc) -> Result<RenderScene, CompileError> {
         light_selection: lighting.selection,
         environment: lighting.environment,
         environment_emitter: lighting.environment_emitter,
-    })
+        few_objects: None,
+    };
+    scene.few_objects = FewObjects::of(&scene);
+    Ok(scene)
 }
 
 /// A material's physically based parameters make sense: finite, non-negative colours and

@@ -213,6 +213,93 @@ fn path_traced_images_are_identical_for_any_thread_count() {
     assert_eq!(run(1), run(2));
 }
 
+/// A box of rectangles lit by an emissive rectangle, with a glass sphere, a rough
+/// metal cube and a diffuse sphere: a handful of analytic objects, which the renderer
+/// traces in waves of eight rays.
+fn small_room() -> SceneDesc {
+    let rotate = |axis: Vec3, degrees: f32| TransformOp::Rotate { axis, degrees };
+    let translate = TransformOp::Translate;
+    let lamp = MaterialDesc { emission: Vec3::new(12.0, 10.0, 8.0), ..diffuse(0.5) };
+    let glass = MaterialDesc {
+        bsdf: Some(BsdfDesc::Dielectric {
+            int_ior: 1.5,
+            ext_ior: 1.0,
+            reflectance: Vec3::ONE,
+            transmittance: Vec3::ONE,
+            alpha: ScalarParam::constant(0.0),
+        }),
+        ..MaterialDesc::default()
+    };
+    let metal = MaterialDesc {
+        bsdf: Some(BsdfDesc::Conductor {
+            eta: Vec3::new(0.2, 0.4, 1.4),
+            k: Vec3::new(3.9, 2.4, 1.6),
+            specular: ColorParam::constant(Vec3::ONE),
+            alpha: ScalarParam::constant(0.2),
+        }),
+        ..MaterialDesc::default()
+    };
+    SceneDesc {
+        settings: path_settings(32, 8, 8),
+        camera: camera(Vec3::new(0.0, 0.0, 3.9), Vec3::NEG_Z, 25.0),
+        materials: vec![diffuse(0.7), lamp, glass, metal],
+        objects: vec![
+            node(ShapeDesc::Rectangle, 0, vec![translate(Vec3::new(0.0, -1.0, 0.0))]),
+            node(ShapeDesc::Rectangle, 0, vec![rotate(Vec3::X, 180.0), translate(Vec3::new(0.0, 1.0, 0.0))]),
+            node(ShapeDesc::Rectangle, 0, vec![rotate(Vec3::X, 90.0), translate(Vec3::new(0.0, 0.0, -1.0))]),
+            node(ShapeDesc::Rectangle, 0, vec![rotate(Vec3::Z, -90.0), translate(Vec3::new(-1.0, 0.0, 0.0))]),
+            node(ShapeDesc::Rectangle, 0, vec![rotate(Vec3::Z, 90.0), translate(Vec3::new(1.0, 0.0, 0.0))]),
+            node(
+                ShapeDesc::Rectangle,
+                1,
+                vec![
+                    TransformOp::Scale(Vec3::new(0.3, 1.0, 0.3)),
+                    rotate(Vec3::X, 180.0),
+                    translate(Vec3::new(0.0, 0.99, 0.0)),
+                ],
+            ),
+            node(
+                ShapeDesc::Sphere,
+                2,
+                vec![TransformOp::Scale(Vec3::splat(0.3)), translate(Vec3::new(-0.4, -0.7, 0.3))],
+            ),
+            node(
+                ShapeDesc::Sphere,
+                0,
+                vec![TransformOp::Scale(Vec3::splat(0.2)), translate(Vec3::new(0.5, -0.8, 0.4))],
+            ),
+            node(
+                ShapeDesc::Cube,
+                3,
+                vec![
+                    TransformOp::Scale(Vec3::new(0.3, 0.5, 0.3)),
+                    rotate(Vec3::Y, 25.0),
+                    translate(Vec3::new(0.3, -0.5, -0.4)),
+                ],
+            ),
+        ],
+        ..SceneDesc::default()
+    }
+}
+
+#[test]
+fn paths_traced_in_waves_give_the_image_of_paths_traced_alone() {
+    let scene = compile(&small_room()).unwrap();
+    assert!(scene.few_objects.is_some(), "the room is a handful of analytic objects");
+    let alone = glint_core::scene::RenderScene { few_objects: None, ..scene.clone() };
+    let image = |scene| render(scene, &|_, _| {}, &AtomicBool::new(false)).unwrap().0;
+    let (waves, single) = (image(&scene), image(&alone));
+    // The light reaches the whole room, so the images have something to compare.
+    assert!(single.pixels.iter().all(|p| p.max_element() > 0.0));
+    // Each path gives the value it gives alone: the same image, bit for bit, except
+    // where a ray meets two objects at exactly the same distance (along the room's
+    // edges), which either may win.
+    let differing = waves.pixels.iter().zip(&single.pixels).filter(|(a, b)| a != b).count();
+    assert!(differing <= single.pixels.len() / 100, "{differing} of {} pixels differ", single.pixels.len());
+    let (mean_waves, mean_single) = (mean(waves.pixels.iter().copied()), mean(single.pixels.iter().copied()));
+    assert!((mean_waves - mean_single).abs().max_element() < 1e-3 * mean_single.max_element());
+}
+
 #[test]
 fn emission_leaves_the_front_only_unless_the_material_is_two_sided() {
     // A rectangle facing +y, seen from above (front) and from below (back), path-traced

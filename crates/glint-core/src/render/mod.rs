@@ -9,6 +9,7 @@ mod checkpoint;
 pub mod inspect;
 mod non_finite;
 mod parts;
+mod waves;
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
@@ -324,6 +325,9 @@ fn path_tile_on(
     counters: &mut Counters,
 ) {
     let s = &scene.settings;
+    if let Some(few) = &scene.few_objects {
+        return waves::path_tile_in_waves(scene, few, (x0, y0, x1, y1), film, counters);
+    }
     for py in y0..y1 {
         for px in x0..x1 {
             for index in 0..s.spp {
@@ -337,6 +341,17 @@ fn path_tile_on(
 /// its [`PathSampler`] — pixel position, lens, time, then the path's own dimensions.
 #[inline(always)]
 fn path_sample(scene: &RenderScene, px: u32, py: u32, index: u32, counters: &mut Counters) -> Traced {
+    let (mut sampler, (fx, fy), ray) = path_camera_ray(scene, px, py, index);
+    let mut aov = Aov::default();
+    let value = path::radiance(scene, &ray, &mut sampler, counters, scene.settings.aovs.then_some(&mut aov));
+    Traced { fx, fy, value, aov, culprit: counters.non_finite_at.take() }
+}
+
+/// The start of sample `index` of pixel (`px`, `py`) path-traced: its sampler, which
+/// has drawn the film position (`fx`, `fy` in pixels), the lens and the time of its
+/// camera ray.
+#[inline(always)]
+fn path_camera_ray(scene: &RenderScene, px: u32, py: u32, index: u32) -> (PathSampler, (f32, f32), Ray) {
     let s = &scene.settings;
     let kind = match s.integrator {
         IntegratorDesc::Path(p) => p.sampler,
@@ -352,9 +367,7 @@ fn path_sample(scene: &RenderScene, px: u32, py: u32, index: u32, counters: &mut
     if !scene.motions.is_empty() {
         ray.time = sampler.next_1d();
     }
-    let mut aov = Aov::default();
-    let value = path::radiance(scene, &ray, &mut sampler, counters, s.aovs.then_some(&mut aov));
-    Traced { fx, fy, value, aov, culprit: counters.non_finite_at.take() }
+    (sampler, (fx, fy), ray)
 }
 
 /// The AOVs of a Whitted camera ray from its first hit: the diffuse colour (textured as

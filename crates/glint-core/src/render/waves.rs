@@ -1,0 +1,106 @@
+//! A path-traced tile as waves of eight paths, for scenes of a handful of analytic
+//! objects ([`FewObjects`]).
+//!
+//! Each of eight lanes owns one pixel at a time and traces its samples in order, one
+//! path after another. Every step gathers the one ray each lane's path waits on — its
+//! next closest-hit ray or its shadow ray — into a wave, traces the wave with the rays
+//! side by side, and hands each path its answer. A path's value is what tracing it
+//! alone gives, and each pixel's samples reach the film in the same order, so the image
+//! is the one the one-path-at-a-time loop renders (bit for bit with the one-pixel box
+//! filter; wider filters add neighbouring pixels' samples in another order).
+
+use std::array;
+
+use super::{TileFilm, Traced, path_camera_ray};
+use crate::film::Aov;
+use crate::integrator::Counters;
+use crate::integrator::path::PathState;
+use crate::sampling::PathSampler;
+use crate::scene::{FewObjects, NO_OBJECT, RayWave, RenderScene, WAVE};
+
+/// One lane's sample in flight.
+struct Lane {
+    pixel: (u32, u32),
+    index: u32,
+    film_point: (f32, f32),
+    path: PathState,
+    sampler: PathSampler,
+    aov: Aov,
+    /// Whether the path has not yet reached its first vertex (which the AOVs describe).
+    at_camera: bool,
+    counters: Counters,
+}
+
+impl Lane {
+    /// Sample `index` of `pixel`, its camera ray ready to trace.
+    #[inline(always)]
+    fn start(scene: &RenderScene, pixel: (u32, u32), index: u32) -> Lane {
+        let (sampler, film_point, ray) = path_camera_ray(scene, pixel.0, pixel.1, index);
+        let mut counters = Counters::default();
+        let path = PathState::new(scene, &ray, &mut counters);
+        Lane { pixel, index, film_point, path, sampler, aov: Aov::default(), at_camera: true, counters }
+    }
+
+    /// The finished sample for the film.
+    fn traced(&mut self) -> Traced {
+        let (fx, fy) = self.film_point;
+        Traced { fx, fy, value: self.path.radiance(), aov: self.aov, culprit: self.counters.non_finite_at.take() }
+    }
+}
+
+/// Every sample of the tile `(x0, y0)`–`(x1, y1)`, traced in waves through `few`.
+#[inline(always)]
+pub(super) fn path_tile_in_waves(
+    scene: &RenderScene,
+    few: &FewObjects,
+    (x0, y0, x1, y1): (u32, u32, u32, u32),
+    film: &mut TileFilm,
+    counters: &mut Counters,
+) {
+    let spp = scene.settings.spp;
+    if spp == 0 {
+        return;
+    }
+    let mut pixels = (y0..y1).flat_map(|py| (x0..x1).map(move |px| (px, py)));
+    let mut lanes: [Option<Lane>; WAVE] = array::from_fn(|_| pixels.next().map(|p| Lane::start(scene, p, 0)));
+    loop {
+        let mut wave = RayWave::default();
+        let mut busy = false;
+        for (k, slot) in lanes.iter_mut().enumerate() {
+            // Finished samples go to the film; the lane starts its pixel's next sample,
+            // or the tile's next pixel.
+            while let Some(lane) = slot.as_mut().filter(|lane| lane.path.is_done()) {
+                film.splat(&lane.traced());
+                counters.rays += lane.counters.rays;
+                let (pixel, next) = (lane.pixel, lane.index + 1);
+                *slot = if next < spp {
+                    Some(Lane::start(scene, pixel, next))
+                } else {
+                    pixels.next().map(|p| Lane::start(scene, p, 0))
+                };
+            }
+            let Some(lane) = slot else { continue };
+            busy = true;
+            if let Some(shadow) = lane.path.shadow_ray() {
+                wave.set(k, &shadow.ray, shadow.t_max, true);
+            } else if let Some(ray) = lane.path.next_ray() {
+                wave.set(k, &ray, f32::INFINITY, false);
+            }
+        }
+        if !busy {
+            return;
+        }
+        let hits = few.trace(&wave);
+        for (k, slot) in lanes.iter_mut().enumerate() {
+            let Some(lane) = slot else { continue };
+            if wave.shadow[k] != 0 {
+                lane.path.resolve_shadow(hits.object[k] != NO_OBJECT, &mut lane.counters);
+            } else if let Some(ray) = lane.path.next_ray() {
+                let hit = scene.few_objects_hit(&ray, &hits, k);
+                let aov = (lane.at_camera && scene.settings.aovs).then_some(&mut lane.aov);
+                lane.at_camera = false;
+                lane.path.advance(scene, hit, &mut lane.sampler, &mut lane.counters, aov);
+            }
+        }
+    }
+}

@@ -1,0 +1,406 @@
+//! Eight rays at once against a scene of a handful of analytic objects.
+//!
+//! A Cornell box or a classic Whitted scene holds fewer objects than a BVH node has
+//! children. For one ray, the instance BVH walk is then mostly bookkeeping: setting up
+//! the slab test, sorting the boxes it enters, transforming the ray for each object it
+//! tests. Eight rays side by side (a wave of paths, [`crate::render`]) can instead take
+//! each object once, in order, with the rays in the lanes: one transform and one
+//! shape test per object serve all eight, and the loops compile to AVX2 with no
+//! gathers. Every lane does the very arithmetic the object's own scalar test does, in
+//! the same order, so each ray finds the hit the scalar walk finds (on an exact tie
+//! between two objects either may win, as between two BVH orders).
+
+// Lane loops index several arrays by the same lane: written so, they vectorize.
+#![allow(clippy::needless_range_loop)]
+
+use super::{Hit, Instance, NO_MOTION, RenderScene};
+use crate::math::Ray;
+use crate::shape::{ShapeHit, ShapeKind};
+
+/// Rays traced side by side.
+pub const WAVE: usize = 8;
+
+/// The most objects a scene may have for [`FewObjects`]: beyond that the BVH's culling
+/// wins over testing everything.
+const MOST_OBJECTS: usize = 16;
+
+/// One lane value per ray.
+type Lanes = [f32; WAVE];
+
+/// A wave of rays, structure of arrays: `origin[axis][lane]`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RayWave {
+    pub origin: [Lanes; 3],
+    pub dir: [Lanes; 3],
+    /// Each ray's segment ends here (`f32::INFINITY` for closest hits); 0 leaves the lane
+    /// out.
+    pub t_max: Lanes,
+    /// All ones in lanes that ask "anything in the way?" (shadow rays): objects that
+    /// cast no shadow are not tested for them. (Integer masks, not `bool`s, keep the
+    /// lane loops in vector registers.)
+    pub shadow: [u32; WAVE],
+}
+
+impl RayWave {
+    /// Puts `ray`, to be traced over `0 < t < t_max`, in lane `lane`.
+    #[inline(always)]
+    pub fn set(&mut self, lane: usize, ray: &Ray, t_max: f32, shadow: bool) {
+        for axis in 0..3 {
+            self.origin[axis][lane] = ray.origin[axis];
+            self.dir[axis][lane] = ray.dir[axis];
+        }
+        self.t_max[lane] = t_max;
+        self.shadow[lane] = if shadow { u32::MAX } else { 0 };
+    }
+}
+
+/// The nearest hit of each lane: `object` is [`NO_OBJECT`] where the ray found none.
+#[derive(Clone, Copy, Debug)]
+pub struct WaveHits {
+    pub t: Lanes,
+    pub object: [u32; WAVE],
+    pub part: [u32; WAVE],
+}
+
+impl WaveHits {
+    /// Takes object `index`'s hits (`t`, `f32::INFINITY` for none, and `part`) where
+    /// they are nearer. Branch-free (integer masks), so it compiles to vector blends.
+    #[inline(always)]
+    fn keep_closer(&mut self, t: &Lanes, part: &[u32; WAVE], index: u32) {
+        let mut closer = [0u32; WAVE];
+        for lane in 0..WAVE {
+            closer[lane] = 0u32.wrapping_sub(u32::from(t[lane] < self.t[lane]));
+        }
+        for lane in 0..WAVE {
+            let keep = self.t[lane].to_bits() & !closer[lane];
+            self.t[lane] = f32::from_bits(keep | (t[lane].to_bits() & closer[lane]));
+            self.object[lane] = (self.object[lane] & !closer[lane]) | (index & closer[lane]);
+            self.part[lane] = (self.part[lane] & !closer[lane]) | (part[lane] & closer[lane]);
+        }
+    }
+}
+
+/// `WaveHits::object` of a lane that hit nothing.
+pub const NO_OBJECT: u32 = u32::MAX;
+
+/// An object as the lanes read it: its kind and `M⁻¹` as the columns of an affine map.
+#[derive(Clone, Copy, Debug)]
+struct LaneObject {
+    kind: ShapeKind,
+    /// `object_from_world`'s x, y, z and w columns (three rows each).
+    columns: [[f32; 3]; 4],
+    casts_shadow: bool,
+}
+
+/// The scene's objects, when there are few enough of kinds the lanes know, for
+/// tracing waves of rays by testing each object once.
+#[derive(Clone, Debug)]
+pub struct FewObjects {
+    objects: Vec<LaneObject>,
+}
+
+impl FewObjects {
+    /// The lanes' view of `scene`'s instances, or `None` when the scene has too many,
+    /// a kind the lanes do not test (meshes, CSG, implicits, …) or motion.
+    pub fn of(scene: &RenderScene) -> Option<FewObjects> {
+        if scene.instances.len() > MOST_OBJECTS {
+            return None;
+        }
+        let objects = scene
+            .instances
+            .iter()
+            .enumerate()
+            .map(|(index, inst)| lane_object(inst, !scene.casts_no_shadow(index as u32)))
+            .collect::<Option<Vec<_>>>()?;
+        Some(FewObjects { objects })
+    }
+
+    /// The nearest hit in `0 < t < t_max` of every lane of `rays`.
+    #[inline(always)]
+    pub fn trace(&self, rays: &RayWave) -> WaveHits {
+        let mut hits = WaveHits { t: rays.t_max, object: [NO_OBJECT; WAVE], part: [0; WAVE] };
+        for (index, object) in self.objects.iter().enumerate() {
+            let local = object.rays_in_object_space(rays);
+            // Shadow rays skip what casts no shadow: their segment ends before it.
+            let mut t_max = hits.t;
+            if !object.casts_shadow {
+                for lane in 0..WAVE {
+                    t_max[lane] = f32::from_bits(t_max[lane].to_bits() & !rays.shadow[lane]);
+                }
+            }
+            let (t, part) = match object.kind {
+                ShapeKind::Rectangle => (rectangle(&local, &t_max), [0; WAVE]),
+                ShapeKind::Sphere => (sphere(&local, &t_max), [0; WAVE]),
+                ShapeKind::Cube => cube(&local, &t_max),
+                _ => unreachable!("FewObjects::of admits rectangles, spheres and cubes only"),
+            };
+            hits.keep_closer(&t, &part, index as u32);
+        }
+        hits
+    }
+}
+
+impl RenderScene {
+    /// The world-space hit of `ray` that [`FewObjects::trace`] found for its lane: the
+    /// same surface data [`RenderScene::intersect`] gives for it.
+    #[inline(always)]
+    pub fn few_objects_hit(&self, ray: &Ray, hits: &WaveHits, lane: usize) -> Option<Hit> {
+        let index = hits.object[lane];
+        if index == NO_OBJECT {
+            return None;
+        }
+        let local = self.instances[index as usize].transform.ray_to_object(ray);
+        let hit = ShapeHit { t: hits.t[lane], part: hits.part[lane] };
+        Some(self.hit_in_object_space(ray, &local, index, hit))
+    }
+}
+
+fn lane_object(inst: &Instance, casts_shadow: bool) -> Option<LaneObject> {
+    let supported = matches!(inst.shape.kind, ShapeKind::Rectangle | ShapeKind::Sphere | ShapeKind::Cube);
+    if !supported || inst.motion != NO_MOTION {
+        return None;
+    }
+    let m = inst.transform.object_from_world;
+    let column = |c: glam::Vec4| [c.x, c.y, c.z];
+    let columns = [column(m.x_axis), column(m.y_axis), column(m.z_axis), column(m.w_axis)];
+    Some(LaneObject { kind: inst.shape.kind, columns, casts_shadow })
+}
+
+/// A wave's rays in an object's space.
+struct LocalWave {
+    origin: [Lanes; 3],
+    dir: [Lanes; 3],
+}
+
+impl LaneObject {
+    /// `M⁻¹` applied to every ray as `Mat4::transform_point3` and `transform_vector3`
+    /// apply it, sum for sum: `((x·p.x + y·p.y) + z·p.z) + w`.
+    #[inline(always)]
+    fn rays_in_object_space(&self, rays: &RayWave) -> LocalWave {
+        let [x, y, z, w] = self.columns;
+        let mut local = LocalWave { origin: [[0.0; WAVE]; 3], dir: [[0.0; WAVE]; 3] };
+        for row in 0..3 {
+            for lane in 0..WAVE {
+                let (o, d) = (&rays.origin, &rays.dir);
+                local.origin[row][lane] = ((x[row] * o[0][lane] + y[row] * o[1][lane]) + z[row] * o[2][lane]) + w[row];
+                local.dir[row][lane] = (x[row] * d[0][lane] + y[row] * d[1][lane]) + z[row] * d[2][lane];
+            }
+        }
+        local
+    }
+}
+
+/// [`crate::shape::Rectangle`]'s test in lanes; `f32::INFINITY` where a ray misses.
+/// (Written without short-circuits, as every lane test here, so the loop vectorizes.)
+#[inline(always)]
+fn rectangle(ray: &LocalWave, t_max: &Lanes) -> Lanes {
+    let ([ox, oy, oz], [dx, _, dz]) = (&ray.origin, &ray.dir);
+    let mut out = [0.0; WAVE];
+    for lane in 0..WAVE {
+        let t = -oy[lane] / ray.dir[1][lane];
+        let (px, pz) = (ox[lane] + t * dx[lane], oz[lane] + t * dz[lane]);
+        let hit = (t > 0.0) & (t < t_max[lane]) & (px.abs() <= 1.0) & (pz.abs() <= 1.0);
+        out[lane] = if hit { t } else { f32::INFINITY };
+    }
+    out
+}
+
+/// [`crate::shape::Sphere`]'s test in lanes (from the line's point nearest the centre).
+#[inline(always)]
+fn sphere(ray: &LocalWave, t_max: &Lanes) -> Lanes {
+    let ([ox, oy, oz], [dx, dy, dz]) = (&ray.origin, &ray.dir);
+    let mut out = [0.0; WAVE];
+    for lane in 0..WAVE {
+        let (o, d) = ((ox[lane], oy[lane], oz[lane]), (dx[lane], dy[lane], dz[lane]));
+        // Sums in glam's order, as the scalar test's dot products.
+        let length_squared = (d.0 * d.0 + d.1 * d.1) + d.2 * d.2;
+        let t0 = -((o.0 * d.0 + o.1 * d.1) + o.2 * d.2) / length_squared;
+        let near = (o.0 + t0 * d.0, o.1 + t0 * d.1, o.2 + t0 * d.2);
+        let discriminant = 1.0 - ((near.0 * near.0 + near.1 * near.1) + near.2 * near.2);
+        let half_chord = (discriminant / length_squared).sqrt();
+        let (t_in, t_out) = (t0 - half_chord, t0 + half_chord);
+        let t = if (t_in > 0.0) & (t_in < t_max[lane]) { t_in } else { t_out };
+        let hit = (discriminant >= 0.0) & (t > 0.0) & (t < t_max[lane]);
+        out[lane] = if hit { t } else { f32::INFINITY };
+    }
+    out
+}
+
+/// [`crate::shape::Cube`]'s slab test in lanes, with the face hit (`2·axis`, +1 for the
+/// +1 face) as its part.
+#[inline(always)]
+fn cube(ray: &LocalWave, t_max: &Lanes) -> (Lanes, [u32; WAVE]) {
+    let mut out = ([0.0; WAVE], [0; WAVE]);
+    for lane in 0..WAVE {
+        // Each lane's slabs in registers: values kept or replaced by selects, never by
+        // conditional stores (which would compile to slow masked moves).
+        let mut span = Span { near: f32::NEG_INFINITY, near_part: 0, far: f32::INFINITY, far_part: 0, outside: false };
+        for axis in 0..3 {
+            span.clip(ray.origin[axis][lane], ray.dir[axis][lane], axis as u32);
+        }
+        let Span { near, near_part, far, far_part, outside } = span;
+        let near_counts = (near > 0.0) & (near < t_max[lane]);
+        let t = if near_counts { near } else { far };
+        let hit = !outside & (near <= far) & (t > 0.0) & (t < t_max[lane]);
+        out.0[lane] = if hit { t } else { f32::INFINITY };
+        out.1[lane] = if near_counts { near_part } else { far_part };
+    }
+    out
+}
+
+/// A ray's extent inside the slabs seen so far, and the faces that bound it.
+struct Span {
+    near: f32,
+    near_part: u32,
+    far: f32,
+    far_part: u32,
+    outside: bool,
+}
+
+impl Span {
+    /// Clips the span to the slab `|x_axis| ≤ 1` of a ray with origin `o` and direction
+    /// `d` along that axis.
+    #[inline(always)]
+    fn clip(&mut self, o: f32, d: f32, axis: u32) {
+        let inv = 1.0 / d;
+        // A ray parallel to the slab is inside it everywhere or nowhere.
+        let parallel = inv.is_infinite();
+        self.outside |= parallel & (o.abs() > 1.0);
+        let t_minus = (-1.0 - o) * inv;
+        let t_plus = (1.0 - o) * inv;
+        let minus_first = t_minus < t_plus;
+        let (minus_part, plus_part) = (2 * axis, 2 * axis + 1);
+        let t_in = if minus_first { t_minus } else { t_plus };
+        let t_out = if minus_first { t_plus } else { t_minus };
+        let in_part = if minus_first { minus_part } else { plus_part };
+        let out_part = if minus_first { plus_part } else { minus_part };
+        let enters = !parallel & (t_in > self.near);
+        self.near = if enters { t_in } else { self.near };
+        self.near_part = if enters { in_part } else { self.near_part };
+        let leaves = !parallel & (t_out < self.far);
+        self.far = if leaves { t_out } else { self.far };
+        self.far_part = if leaves { out_part } else { self.far_part };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    /// A box of rectangles with a cube and a sphere inside, the last material casting
+    /// no shadow.
+    fn scene() -> RenderScene {
+        use crate::desc::{MaterialDesc, NodeDesc, NodeKind, SceneDesc, ShapeDesc, TransformOp};
+        let rotate = |axis: Vec3, degrees: f32| TransformOp::Rotate { axis, degrees };
+        let translate = TransformOp::Translate;
+        let walls = [
+            vec![translate(Vec3::new(0.0, -1.0, 0.0))],
+            vec![rotate(Vec3::X, 180.0), translate(Vec3::new(0.0, 1.0, 0.0))],
+            vec![rotate(Vec3::X, 90.0), translate(Vec3::new(0.0, 0.0, -1.0))],
+            vec![rotate(Vec3::Z, -90.0), translate(Vec3::new(-1.0, 0.0, 0.0))],
+            vec![rotate(Vec3::Z, 90.0), translate(Vec3::new(1.0, 0.0, 0.0))],
+        ];
+        let node = |shape, transform, material| NodeDesc {
+            transform,
+            kind: NodeKind::Shape { shape, material },
+            origin: String::new(),
+        };
+        let mut objects: Vec<NodeDesc> = walls.into_iter().map(|t| node(ShapeDesc::Rectangle, t, 0)).collect();
+        let cube = vec![
+            TransformOp::Scale(Vec3::new(0.3, 0.6, 0.3)),
+            rotate(Vec3::Y, 20.0),
+            translate(Vec3::new(0.4, -0.4, -0.3)),
+        ];
+        objects.push(node(ShapeDesc::Cube, cube, 0));
+        let sphere = vec![TransformOp::Scale(Vec3::splat(0.3)), translate(Vec3::new(-0.4, -0.7, 0.2))];
+        objects.push(node(ShapeDesc::Sphere, sphere, 0));
+        let hidden = vec![TransformOp::Scale(Vec3::splat(0.2)), translate(Vec3::new(0.0, 0.3, 0.0))];
+        objects.push(node(ShapeDesc::Sphere, hidden, 1));
+        let shadowless = MaterialDesc { casts_shadows: false, ..MaterialDesc::default() };
+        let desc = SceneDesc { materials: vec![MaterialDesc::default(), shadowless], objects, ..Default::default() };
+        super::super::compile(&desc).expect("the test scene compiles")
+    }
+
+    fn rays() -> Vec<Ray> {
+        let mut rng = crate::sampling::Rng::new(7);
+        let mut next = || 2.0 * rng.next_f32() - 1.0;
+        (0..4000)
+            .map(|i| {
+                let origin = if i % 4 == 0 { Vec3::new(0.0, 0.0, 3.5) } else { Vec3::new(next(), next(), next()) };
+                // Some rays exactly along an axis, to test the slabs' parallel case.
+                let dir = match i % 7 {
+                    0 => Vec3::new(0.0, -1.0, 0.0),
+                    1 => Vec3::new(0.0, 0.0, -1.0),
+                    _ => Vec3::new(next(), next(), next()),
+                };
+                Ray::new(origin, dir)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn waves_find_the_hits_single_rays_find() {
+        let scene = scene();
+        let few = FewObjects::of(&scene).expect("rectangles, a cube and a sphere are few objects");
+        for chunk in rays().chunks(WAVE) {
+            let mut wave = RayWave::default();
+            for (lane, ray) in chunk.iter().enumerate() {
+                wave.set(lane, ray, f32::INFINITY, false);
+            }
+            let hits = few.trace(&wave);
+            for (lane, ray) in chunk.iter().enumerate() {
+                let expected = scene.intersect(ray, f32::INFINITY);
+                let found = scene.few_objects_hit(ray, &hits, lane);
+                match (expected, found) {
+                    (None, None) => {}
+                    (Some(a), Some(b)) => {
+                        assert_eq!(a.t, b.t, "ray {ray:?}");
+                        // Only an exact tie may pick another object.
+                        if a.instance != b.instance {
+                            assert_eq!(a.t, b.t);
+                        } else {
+                            assert_eq!((a.point, a.normal, a.part), (b.point, b.normal, b.part), "ray {ray:?}");
+                        }
+                    }
+                    (a, b) => panic!("ray {ray:?}: single {a:?}, wave {b:?}"),
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn shadow_lanes_agree_with_occluded() {
+        let scene = scene();
+        let few = FewObjects::of(&scene).unwrap();
+        let all = rays();
+        let mut blocked_count = 0;
+        for chunk in all.chunks(WAVE) {
+            let mut wave = RayWave::default();
+            for (lane, ray) in chunk.iter().enumerate() {
+                wave.set(lane, ray, 0.5 + lane as f32 * 0.2, true);
+            }
+            let hits = few.trace(&wave);
+            for (lane, ray) in chunk.iter().enumerate() {
+                let blocked = hits.object[lane] != NO_OBJECT;
+                assert_eq!(blocked, scene.occluded(ray, wave.t_max[lane]), "ray {ray:?}");
+                blocked_count += usize::from(blocked);
+            }
+        }
+        // Both answers occur, so the test compares something.
+        assert!(blocked_count > 100 && blocked_count < all.len() - 100, "{blocked_count}");
+    }
+
+    #[test]
+    fn a_lane_with_t_max_zero_finds_nothing() {
+        let scene = scene();
+        let few = FewObjects::of(&scene).unwrap();
+        let mut wave = RayWave::default();
+        wave.set(3, &Ray::new(Vec3::ZERO, Vec3::new(0.0, -1.0, 0.0)), f32::INFINITY, false);
+        let hits = few.trace(&wave);
+        for lane in 0..WAVE {
+            assert_eq!(hits.object[lane] == NO_OBJECT, lane != 3, "lane {lane}");
+        }
+        assert_eq!(hits.t[3], 1.0);
+    }
+}
