@@ -50,6 +50,13 @@ impl Counters {
     /// surface of the same sample already did (the first culprit is the cause).
     #[cold]
     pub fn blame(&mut self, hit: &crate::scene::Hit) {
-        self.non_finite_at.get_or_insert(SurfaceId::of(hit));
+        self.blame_surface(SurfaceId::of(hit));
+    }
+
+    /// [`Counters::blame`] for a surface known by its id (a pending shadow ray keeps
+    /// only that of the surface it leaves).
+    #[cold]
+    pub fn blame_surface(&mut self, surface: SurfaceId) {
+        self.non_finite_at.get_or_insert(surface);
     }
 }

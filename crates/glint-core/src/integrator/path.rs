@@ -10,7 +10,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::Counters;
+use super::{Counters, SurfaceId};
 use crate::bsdf::SurfaceBsdf;
 use crate::desc::PathDesc;
 use crate::emitter::{EmitterKind, LightSample};
@@ -90,7 +90,7 @@ pub struct ShadowRay {
     /// Throughput times the MIS-weighted light sample: what the path gains.
     light: Vec3,
     /// The surface it leaves from, to blame should the light make the path non-finite.
-    from: Hit,
+    from: SurfaceId,
 }
 
 /// Where a path stands between two rays.
@@ -181,7 +181,7 @@ impl PathState {
             self.radiance += shadow.light;
         }
         if !self.radiance.is_finite() && self.stage != Stage::Void {
-            counters.blame(&shadow.from);
+            counters.blame_surface(shadow.from);
             self.stage = Stage::Done;
         }
     }
@@ -237,7 +237,7 @@ impl PathState {
                 direct_light(scene, &hit, &bsdf, &frame, wo, (choices.x, u_light), ray.time, counters)
         {
             let light = self.throughput * value;
-            self.shadow = Some(ShadowRay { ray: shadow_ray, t_max, light, from: hit });
+            self.shadow = Some(ShadowRay { ray: shadow_ray, t_max, light, from: SurfaceId::of(&hit) });
         }
         self.stage = Stage::Done;
         let u_lobe = choices.y;

@@ -73,11 +73,13 @@ pub(super) fn path_tile_in_waves(
                 film.splat(&lane.traced());
                 counters.rays += lane.counters.rays;
                 let (pixel, next) = (lane.pixel, lane.index + 1);
-                *slot = if next < spp {
-                    Some(Lane::start(scene, pixel, next))
+                if next < spp {
+                    *lane = Lane::start(scene, pixel, next);
+                } else if let Some(pixel) = pixels.next() {
+                    *lane = Lane::start(scene, pixel, 0);
                 } else {
-                    pixels.next().map(|p| Lane::start(scene, p, 0))
-                };
+                    *slot = None;
+                }
             }
             let Some(lane) = slot else { continue };
             busy = true;
