@@ -86,6 +86,8 @@ pub const NO_OBJECT: u32 = u32::MAX;
 /// An object as the lanes read it: its kind and `M⁻¹` as the columns of an affine map.
 #[derive(Clone, Copy, Debug)]
 struct LaneObject {
+    /// Its index among the scene's instances.
+    index: u32,
     kind: ShapeKind,
     /// `object_from_world`'s x, y, z and w columns (three rows each).
     columns: [[f32; 3]; 4],
@@ -96,7 +98,12 @@ struct LaneObject {
 /// tracing waves of rays by testing each object once.
 #[derive(Clone, Debug)]
 pub struct FewObjects {
+    /// The objects grouped by kind (rectangles, spheres, cubes), so each kind's test runs
+    /// in a loop of its own, without a branch on the kind per object.
     objects: Vec<LaneObject>,
+    /// Where the spheres and where the cubes start in `objects`.
+    spheres: usize,
+    cubes: usize,
 }
 
 impl FewObjects {
@@ -106,35 +113,44 @@ impl FewObjects {
         if scene.instances.len() > MOST_OBJECTS {
             return None;
         }
-        let objects = scene
+        let mut objects = scene
             .instances
             .iter()
             .enumerate()
-            .map(|(index, inst)| lane_object(inst, !scene.casts_no_shadow(index as u32)))
+            .map(|(index, inst)| lane_object(index as u32, inst, !scene.casts_no_shadow(index as u32)))
             .collect::<Option<Vec<_>>>()?;
-        Some(FewObjects { objects })
+        let rank = |kind: ShapeKind| match kind {
+            ShapeKind::Rectangle => 0,
+            ShapeKind::Sphere => 1,
+            _ => 2,
+        };
+        // Stable: within a kind the scene's order, as the BVH-free loop had it.
+        objects.sort_by_key(|o| rank(o.kind));
+        let spheres = objects.iter().take_while(|o| rank(o.kind) < 1).count();
+        let cubes = objects.iter().take_while(|o| rank(o.kind) < 2).count();
+        Some(FewObjects { objects, spheres, cubes })
     }
 
     /// The nearest hit in `0 < t < t_max` of every lane of `rays`.
     #[inline(always)]
     pub fn trace(&self, rays: &RayWave) -> WaveHits {
         let mut hits = WaveHits { t: rays.t_max, object: [NO_OBJECT; WAVE], part: [0; WAVE] };
-        for (index, object) in self.objects.iter().enumerate() {
-            let local = object.rays_in_object_space(rays);
-            // Shadow rays skip what casts no shadow: their segment ends before it.
-            let mut t_max = hits.t;
-            if !object.casts_shadow {
-                for lane in 0..WAVE {
-                    t_max[lane] = f32::from_bits(t_max[lane].to_bits() & !rays.shadow[lane]);
-                }
-            }
-            let (t, part) = match object.kind {
-                ShapeKind::Rectangle => (rectangle(&local, &t_max), [0; WAVE]),
-                ShapeKind::Sphere => (sphere(&local, &t_max), [0; WAVE]),
-                ShapeKind::Cube => cube(&local, &t_max),
-                _ => unreachable!("FewObjects::of admits rectangles, spheres and cubes only"),
-            };
-            hits.keep_closer(&t, &part, index as u32);
+        let (rectangles, rest) = self.objects.split_at(self.spheres);
+        let (spheres, cubes) = rest.split_at(self.cubes - self.spheres);
+        for object in rectangles {
+            let t_max = object.t_max_for(rays, &hits);
+            let t = rectangle(&object.rays_in_object_space(rays), &t_max);
+            hits.keep_closer(&t, &[0; WAVE], object.index);
+        }
+        for object in spheres {
+            let t_max = object.t_max_for(rays, &hits);
+            let t = sphere(&object.rays_in_object_space(rays), &t_max);
+            hits.keep_closer(&t, &[0; WAVE], object.index);
+        }
+        for object in cubes {
+            let t_max = object.t_max_for(rays, &hits);
+            let (t, part) = cube(&object.rays_in_object_space(rays), &t_max);
+            hits.keep_closer(&t, &part, object.index);
         }
         hits
     }
@@ -155,7 +171,7 @@ impl RenderScene {
     }
 }
 
-fn lane_object(inst: &Instance, casts_shadow: bool) -> Option<LaneObject> {
+fn lane_object(index: u32, inst: &Instance, casts_shadow: bool) -> Option<LaneObject> {
     let supported = matches!(inst.shape.kind, ShapeKind::Rectangle | ShapeKind::Sphere | ShapeKind::Cube);
     if !supported || inst.motion != NO_MOTION {
         return None;
@@ -163,7 +179,7 @@ fn lane_object(inst: &Instance, casts_shadow: bool) -> Option<LaneObject> {
     let m = inst.transform.object_from_world;
     let column = |c: glam::Vec4| [c.x, c.y, c.z];
     let columns = [column(m.x_axis), column(m.y_axis), column(m.z_axis), column(m.w_axis)];
-    Some(LaneObject { kind: inst.shape.kind, columns, casts_shadow })
+    Some(LaneObject { index, kind: inst.shape.kind, columns, casts_shadow })
 }
 
 /// A wave's rays in an object's space.
@@ -173,6 +189,19 @@ struct LocalWave {
 }
 
 impl LaneObject {
+    /// Where each lane's search ends for this object: at the nearest hit so far, and
+    /// before it for shadow rays when it casts no shadow (their segment ends there).
+    #[inline(always)]
+    fn t_max_for(&self, rays: &RayWave, hits: &WaveHits) -> Lanes {
+        let mut t_max = hits.t;
+        if !self.casts_shadow {
+            for lane in 0..WAVE {
+                t_max[lane] = f32::from_bits(t_max[lane].to_bits() & !rays.shadow[lane]);
+            }
+        }
+        t_max
+    }
+
     /// `M⁻¹` applied to every ray as `Mat4::transform_point3` and `transform_vector3`
     /// apply it, sum for sum: `((x·p.x + y·p.y) + z·p.z) + w`.
     #[inline(always)]
