@@ -215,7 +215,9 @@ impl Bsdf {
     }
 
     /// The parameters at texture coordinates `uv`; `texture(index, uv)` samples the
-    /// scene's textures.
+    /// scene's textures. Inlined into the path loop, where an untextured surface then
+    /// costs three compares.
+    #[inline(always)]
     pub fn at(&self, uv: Vec2, texture: impl Fn(u32, Vec2) -> Vec3) -> SurfaceBsdf<'_> {
         let mut color = self.color;
         if self.color_texture != NO_TEXTURE {
@@ -300,6 +302,7 @@ impl SurfaceBsdf<'_> {
 
     /// Reflection-only kinds see the world from their front; a two-sided one is mirrored
     /// to it, a one-sided one is black from behind. `None`: nothing scatters.
+    #[inline(always)]
     fn reflection_side(&self, wo: Vec3) -> Option<f32> {
         if wo.z > 0.0 {
             Some(1.0)
@@ -311,8 +314,19 @@ impl SurfaceBsdf<'_> {
     }
 
     /// `f(wo, wi)` of the non-delta lobes.
-    #[inline]
+    #[inline(always)]
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        // Diffuse surfaces, the most common, are evaluated where they are asked for;
+        // the other kinds in a call (the same arithmetic either way).
+        if self.record.kind == BsdfKind::Diffuse {
+            let Some(side) = self.reflection_side(wo) else { return Vec3::ZERO };
+            return if wi.z * side <= 0.0 { Vec3::ZERO } else { self.diffuse_eval() };
+        }
+        self.eval_any(wo, wi)
+    }
+
+    #[inline]
+    fn eval_any(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         match self.record.kind {
             BsdfKind::Dielectric => self.rough_dielectric(wo, wi).0,
             BsdfKind::ThinDielectric => Vec3::ZERO,
@@ -329,8 +343,18 @@ impl SurfaceBsdf<'_> {
     }
 
     /// Density with which [`SurfaceBsdf::sample`] picks `wi` through a non-delta lobe.
-    #[inline]
+    #[inline(always)]
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        if self.record.kind == BsdfKind::Diffuse {
+            let Some(side) = self.reflection_side(wo) else { return 0.0 };
+            let z = wi.z * side;
+            return if z <= 0.0 { 0.0 } else { cosine_hemisphere_pdf(Vec3::new(wi.x, wi.y, z)) };
+        }
+        self.pdf_any(wo, wi)
+    }
+
+    #[inline]
+    fn pdf_any(&self, wo: Vec3, wi: Vec3) -> f32 {
         match self.record.kind {
             BsdfKind::Dielectric => self.rough_dielectric(wo, wi).1,
             BsdfKind::ThinDielectric => 0.0,
@@ -347,8 +371,19 @@ impl SurfaceBsdf<'_> {
     }
 
     /// A direction `wi` for `wo`, from `u_lobe` (which lobe) and `u` (where in it).
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        if self.record.kind == BsdfKind::Diffuse {
+            let side = self.reflection_side(wo)?;
+            let mut s = self.sample_diffuse(u)?;
+            s.wi *= Vec3::new(1.0, 1.0, side);
+            return Some(s);
+        }
+        self.sample_any(wo, u_lobe, u)
+    }
+
+    #[inline]
+    fn sample_any(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
         match self.record.kind {
             BsdfKind::Dielectric => self.sample_dielectric(wo, u_lobe, u),
             BsdfKind::ThinDielectric => self.sample_thin(wo, u_lobe),
@@ -367,7 +402,7 @@ impl SurfaceBsdf<'_> {
 
     fn eval_front(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         match self.record.kind {
-            BsdfKind::Diffuse => self.color * FRAC_1_PI,
+            BsdfKind::Diffuse => self.diffuse_eval(),
             BsdfKind::Conductor => self.metal_eval(wo, wi),
             BsdfKind::Plastic => self.plastic_eval(wo, wi),
             BsdfKind::MetallicRoughness => {
@@ -451,21 +486,31 @@ impl SurfaceBsdf<'_> {
     fn sample_front(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
         let r = self.record;
         match r.kind {
-            BsdfKind::Diffuse => {
-                let wi = cosine_hemisphere(u);
-                (wi.z > 0.0).then_some(BsdfSample {
-                    wi,
-                    weight: self.color,
-                    pdf: cosine_hemisphere_pdf(wi),
-                    delta: false,
-                    eta: 1.0,
-                })
-            }
+            BsdfKind::Diffuse => self.sample_diffuse(u),
             BsdfKind::Conductor => self.sample_metal(wo, u),
             BsdfKind::Plastic => self.sample_plastic(wo, u_lobe, u),
             BsdfKind::MetallicRoughness => self.sample_metallic_roughness(wo, u_lobe, u),
             _ => None,
         }
+    }
+
+    /// Lambert's `f` (for `wo` and `wi` on the front).
+    #[inline(always)]
+    fn diffuse_eval(&self) -> Vec3 {
+        self.color * FRAC_1_PI
+    }
+
+    /// A cosine-weighted direction on the front.
+    #[inline(always)]
+    fn sample_diffuse(&self, u: Vec2) -> Option<BsdfSample> {
+        let wi = cosine_hemisphere(u);
+        (wi.z > 0.0).then_some(BsdfSample {
+            wi,
+            weight: self.color,
+            pdf: cosine_hemisphere_pdf(wi),
+            delta: false,
+            eta: 1.0,
+        })
     }
 
     fn sample_metal(&self, wo: Vec3, u: Vec2) -> Option<BsdfSample> {

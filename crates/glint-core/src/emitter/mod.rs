@@ -181,7 +181,7 @@ impl Emitter {
 
     /// A direction from `p` toward this emitter (not the environment: see
     /// [`Environment::sample`]).
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, p: Vec3, u: Vec2) -> Option<LightSample> {
         match self.kind {
             EmitterKind::Point | EmitterKind::Spot => {

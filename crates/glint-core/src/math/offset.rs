@@ -9,7 +9,7 @@ use glam::Vec3;
 /// measured in millimetres or in kilometres. Near the origin, where ULPs vanish, a
 /// small absolute offset takes over. `n` need not be normalized but must point to the
 /// side the new ray leaves on.
-#[inline]
+#[inline(always)]
 pub fn offset_ray_origin(p: Vec3, n: Vec3) -> Vec3 {
     const ORIGIN: f32 = 1.0 / 32.0;
     const FLOAT_SCALE: f32 = 1.0 / 65536.0;
