@@ -211,7 +211,10 @@ impl PathState {
         if let Some(aov) = aov {
             *aov = Aov { albedo: bsdf.albedo(), normal: hit.normal, depth: hit.t * ray.dir.length() };
         }
-        self.radiance += self.throughput * emitted(scene, &hit, &bsdf, wo_world, self.previous);
+        // (Most surfaces emit nothing: the throughput, always finite here, would add zero.)
+        if bsdf.record.is_emissive() {
+            self.radiance += self.throughput * emitted(scene, &hit, &bsdf, wo_world, self.previous);
+        }
         if !self.radiance.is_finite() {
             counters.blame(&hit);
             self.stage = Stage::Done;

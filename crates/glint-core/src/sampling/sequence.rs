@@ -137,8 +137,9 @@ fn sobol_draws(pixel_seed: u32, index_reversed: u32) -> [Vec2; SOBOL_DIMENSIONS 
     }
     // Dimension 1 of the Sobol sequence, bits reversed (the form Owen scrambling takes);
     // dimension 0 reversed is the index itself.
+    // (A table lookup, which does not vectorize: only for the dimensions drawn.)
     let mut second = [0u32; SOBOL_LANES];
-    for (y, &i) in second.iter_mut().zip(&shuffled) {
+    for (y, &i) in second.iter_mut().zip(&shuffled).take(SOBOL_DIMENSIONS as usize) {
         *y = sobol_y_reversed(i);
     }
     let (mut x, mut y) = ([0u32; SOBOL_LANES], [0u32; SOBOL_LANES]);
