@@ -650,27 +650,11 @@ impl RenderScene {
     #[inline]
     fn hit_in_object_space(&self, ray: &Ray, local: &Ray, index: u32, hit: crate::shape::ShapeHit) -> Hit {
         let inst = &self.instances[index as usize];
+        if inst.shape.kind != ShapeKind::Mesh {
+            return self.hit_on_analytic(ray, local, index, hit);
+        }
         let xf = self.transform_at(inst, ray.time);
         let material = inst.shape.hit_material(&self.shape_tables, hit).unwrap_or(inst.material);
-        if inst.shape.kind != ShapeKind::Mesh {
-            // Analytic surfaces: the true surface is the shading surface, so the normal
-            // and the point are transformed once.
-            let surface = inst.shape.surface_with(&self.shape_tables, local, hit);
-            let normal = xf.normal_to_world(surface.normal).normalize_or(Vec3::Y);
-            let point = xf.point_to_world(surface.point);
-            return Hit {
-                t: hit.t,
-                point,
-                normal,
-                geometric_normal: normal,
-                shadow_point: point,
-                uv: surface.uv,
-                color: Vec3::ONE,
-                material,
-                instance: index,
-                part: hit.part,
-            };
-        }
         let mesh = &self.meshes[inst.shape.mesh_index() as usize];
         let m = mesh.surface(local, hit);
         let (surface, geometric, shadow_point) = (m.surface, m.geometric, m.shadow_point);
@@ -691,6 +675,31 @@ impl RenderScene {
             shadow_point: xf.point_to_world(shadow_point),
             uv: surface.uv,
             color: m.color,
+            material,
+            instance: index,
+            part: hit.part,
+        }
+    }
+
+    /// [`RenderScene::hit_in_object_space`] on an analytic surface, where the true
+    /// surface is the shading surface, so the normal and the point are transformed
+    /// once. Inlined where the caller knows the instance is analytic.
+    #[inline(always)]
+    pub(crate) fn hit_on_analytic(&self, ray: &Ray, local: &Ray, index: u32, hit: crate::shape::ShapeHit) -> Hit {
+        let inst = &self.instances[index as usize];
+        let xf = self.transform_at(inst, ray.time);
+        let material = inst.shape.hit_material(&self.shape_tables, hit).unwrap_or(inst.material);
+        let surface = inst.shape.surface_with(&self.shape_tables, local, hit);
+        let normal = xf.normal_to_world(surface.normal).normalize_or(Vec3::Y);
+        let point = xf.point_to_world(surface.point);
+        Hit {
+            t: hit.t,
+            point,
+            normal,
+            geometric_normal: normal,
+            shadow_point: point,
+            uv: surface.uv,
+            color: Vec3::ONE,
             material,
             instance: index,
             part: hit.part,

@@ -167,7 +167,8 @@ impl RenderScene {
         }
         let local = self.instances[index as usize].transform.ray_to_object(ray);
         let hit = ShapeHit { t: hits.t[lane], part: hits.part[lane] };
-        Some(self.hit_in_object_space(ray, &local, index, hit))
+        // Only analytic instances are few objects.
+        Some(self.hit_on_analytic(ray, &local, index, hit))
     }
 }
 
