@@ -22,7 +22,7 @@ use crate::desc::IntegratorDesc;
 use crate::film::{Aov, AovImages, FilmTile, Image, linear_to_srgb};
 use crate::integrator::{Counters, SurfaceId, TraceContext, path, whitted};
 use crate::math::Ray;
-use crate::sampling::{PathSampler, PixelSampler, Rng, SamplePattern, hash};
+use crate::sampling::{PathSampler, PixelSampler, PixelStream, Rng, SamplePattern, hash};
 use crate::scene::RenderScene;
 pub use checkpoint::{CheckpointError, FinishedTile, Restored, TileStore, checkpoint_header, max_checkpoint_len};
 pub use non_finite::{NonFiniteSamples, SourceTally};
@@ -330,8 +330,9 @@ fn path_tile_on(
     }
     for py in y0..y1 {
         for px in x0..x1 {
+            let stream = pixel_stream(scene, px, py);
             for index in 0..s.spp {
-                film.splat(&path_sample(scene, px, py, index, counters));
+                film.splat(&path_sample(scene, &stream, (px, py), index, counters));
             }
         }
     }
@@ -340,24 +341,42 @@ fn path_tile_on(
 /// Sample `index` of pixel (`px`, `py`) path-traced: every number it uses comes from
 /// its [`PathSampler`] — pixel position, lens, time, then the path's own dimensions.
 #[inline(always)]
-fn path_sample(scene: &RenderScene, px: u32, py: u32, index: u32, counters: &mut Counters) -> Traced {
-    let (mut sampler, (fx, fy), ray) = path_camera_ray(scene, px, py, index);
+fn path_sample(
+    scene: &RenderScene,
+    stream: &PixelStream,
+    pixel: (u32, u32),
+    index: u32,
+    counters: &mut Counters,
+) -> Traced {
+    let (mut sampler, (fx, fy), ray) = path_camera_ray(scene, stream, pixel, index);
     let mut aov = Aov::default();
     let value = path::radiance(scene, &ray, &mut sampler, counters, scene.settings.aovs.then_some(&mut aov));
     Traced { fx, fy, value, aov, culprit: counters.non_finite_at.take() }
 }
 
-/// The start of sample `index` of pixel (`px`, `py`) path-traced: its sampler, which
-/// has drawn the film position (`fx`, `fy` in pixels), the lens and the time of its
-/// camera ray.
+/// The random streams of pixel (`px`, `py`) path-traced.
 #[inline(always)]
-fn path_camera_ray(scene: &RenderScene, px: u32, py: u32, index: u32) -> (PathSampler, (f32, f32), Ray) {
+fn pixel_stream(scene: &RenderScene, px: u32, py: u32) -> PixelStream {
     let s = &scene.settings;
     let kind = match s.integrator {
         IntegratorDesc::Path(p) => p.sampler,
         IntegratorDesc::Whitted => crate::desc::SamplerKind::Sobol,
     };
-    let mut sampler = PathSampler::new(kind, px, py, index, s.seed);
+    PixelStream::new(kind, px, py, s.seed)
+}
+
+/// The start of sample `index` of pixel (`px`, `py`) path-traced, whose streams are
+/// `stream`: its sampler, which has drawn the film position (`fx`, `fy` in pixels),
+/// the lens and the time of its camera ray.
+#[inline(always)]
+fn path_camera_ray(
+    scene: &RenderScene,
+    stream: &PixelStream,
+    (px, py): (u32, u32),
+    index: u32,
+) -> (PathSampler, (f32, f32), Ray) {
+    let s = &scene.settings;
+    let mut sampler = stream.sample(index);
     let offset = sampler.next_2d();
     // The lens and the shutter take dimensions only where they matter (the same for
     // every sample of a scene, so each later decision keeps a fixed dimension).
@@ -414,7 +433,7 @@ fn trace_sample(
     counters: &mut Counters,
 ) -> Traced {
     if let IntegratorDesc::Path(_) = scene.settings.integrator {
-        return path_sample(scene, px, py, index, counters);
+        return path_sample(scene, &pixel_stream(scene, px, py), (px, py), index, counters);
     }
     let mut sample = camera_sample(scene, sampler, px, py, index);
     let hit = scene.intersect(&sample.ray, f32::INFINITY);
@@ -497,7 +516,9 @@ pub fn render_preview(scene: &RenderScene, block: u32) -> Image {
                     let cy = ((by * block) as f32 + 0.5 * block as f32).min(height as f32 - 0.5);
                     if let IntegratorDesc::Path(_) = scene.settings.integrator {
                         let mut counters = Counters::default();
-                        return finite_or_black(path_sample(scene, cx as u32, cy as u32, 0, &mut counters).value);
+                        let pixel = (cx as u32, cy as u32);
+                        let stream = pixel_stream(scene, pixel.0, pixel.1);
+                        return finite_or_black(path_sample(scene, &stream, pixel, 0, &mut counters).value);
                     }
                     // One sample stands for a block of pixels: filtered textures average
                     // over all of it.

@@ -11,16 +11,18 @@
 
 use std::array;
 
-use super::{TileFilm, Traced, path_camera_ray};
+use super::{TileFilm, Traced, path_camera_ray, pixel_stream};
 use crate::film::Aov;
 use crate::integrator::Counters;
 use crate::integrator::path::PathState;
-use crate::sampling::PathSampler;
+use crate::sampling::{PathSampler, PixelStream};
 use crate::scene::{FewObjects, NO_OBJECT, RayWave, RenderScene, WAVE};
 
 /// One lane's sample in flight.
 struct Lane {
     pixel: (u32, u32),
+    /// The pixel's random streams, shared by its samples.
+    stream: PixelStream,
     index: u32,
     film_point: (f32, f32),
     path: PathState,
@@ -32,13 +34,19 @@ struct Lane {
 }
 
 impl Lane {
-    /// Sample `index` of `pixel`, its camera ray ready to trace.
+    /// The first sample of `pixel`, its camera ray ready to trace.
     #[inline(always)]
-    fn start(scene: &RenderScene, pixel: (u32, u32), index: u32) -> Lane {
-        let (sampler, film_point, ray) = path_camera_ray(scene, pixel.0, pixel.1, index);
+    fn start(scene: &RenderScene, pixel: (u32, u32)) -> Lane {
+        Lane::start_with(scene, pixel_stream(scene, pixel.0, pixel.1), pixel, 0)
+    }
+
+    /// Sample `index` of `pixel`, whose streams are `stream`.
+    #[inline(always)]
+    fn start_with(scene: &RenderScene, stream: PixelStream, pixel: (u32, u32), index: u32) -> Lane {
+        let (sampler, film_point, ray) = path_camera_ray(scene, &stream, pixel, index);
         let mut counters = Counters::default();
         let path = PathState::new(scene, &ray, &mut counters);
-        Lane { pixel, index, film_point, path, sampler, aov: Aov::default(), at_camera: true, counters }
+        Lane { pixel, stream, index, film_point, path, sampler, aov: Aov::default(), at_camera: true, counters }
     }
 
     /// The finished sample for the film.
@@ -62,7 +70,7 @@ pub(super) fn path_tile_in_waves(
         return;
     }
     let mut pixels = (y0..y1).flat_map(|py| (x0..x1).map(move |px| (px, py)));
-    let mut lanes: [Option<Lane>; WAVE] = array::from_fn(|_| pixels.next().map(|p| Lane::start(scene, p, 0)));
+    let mut lanes: [Option<Lane>; WAVE] = array::from_fn(|_| pixels.next().map(|p| Lane::start(scene, p)));
     loop {
         let mut wave = RayWave::default();
         let mut busy = false;
@@ -74,9 +82,9 @@ pub(super) fn path_tile_in_waves(
                 counters.rays += lane.counters.rays;
                 let (pixel, next) = (lane.pixel, lane.index + 1);
                 if next < spp {
-                    *lane = Lane::start(scene, pixel, next);
+                    *lane = Lane::start_with(scene, lane.stream, pixel, next);
                 } else if let Some(pixel) = pixels.next() {
-                    *lane = Lane::start(scene, pixel, 0);
+                    *lane = Lane::start(scene, pixel);
                 } else {
                     *slot = None;
                 }

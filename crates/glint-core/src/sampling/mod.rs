@@ -10,4 +10,4 @@ pub use distribution::{Distribution1D, Distribution2D};
 pub use filter::{Filter, FilterKind};
 pub use pattern::{PixelSampler, SamplePattern};
 pub use rng::{Rng, hash};
-pub use sequence::{PathSampler, hash32, mix32, unit_float};
+pub use sequence::{PathSampler, PixelStream, hash32, mix32, unit_float};

@@ -57,19 +57,43 @@ pub struct PathSampler {
 /// take hashed numbers, which cost a fraction of a scrambled point.
 pub const SOBOL_DIMENSIONS: u32 = 10;
 
+/// What every sample of one pixel shares: the pixel's hash and each Sobol dimension's
+/// scrambling seed. A loop over a pixel's samples computes it once.
+#[derive(Clone, Copy, Debug)]
+pub struct PixelStream {
+    kind: SamplerKind,
+    pixel_seed: u32,
+    dimension_seeds: [u32; SOBOL_LANES],
+}
+
+impl PixelStream {
+    /// The streams of pixel (`px`, `py`) under `seed`.
+    #[inline(always)]
+    pub fn new(kind: SamplerKind, px: u32, py: u32, seed: u32) -> Self {
+        let pixel_seed = hash32(&[px, py, seed]);
+        let dimension_seeds = std::array::from_fn(|d| mix32(pixel_seed ^ salt(d as u32)));
+        Self { kind, pixel_seed, dimension_seeds }
+    }
+
+    /// The stream of this pixel's sample `index`.
+    #[inline(always)]
+    pub fn sample(&self, index: u32) -> PathSampler {
+        let sample_seed = mix32(self.pixel_seed ^ mix32(index));
+        let sobol = match self.kind {
+            // The hashes take the index with its bits reversed, the form Owen scrambling
+            // shuffles.
+            SamplerKind::Sobol => sobol_draws(&self.dimension_seeds, index.reverse_bits()),
+            SamplerKind::Independent => [Vec2::ZERO; SOBOL_DIMENSIONS as usize],
+        };
+        PathSampler { kind: self.kind, sample_seed, dimension: 0, sobol }
+    }
+}
+
 impl PathSampler {
     /// The stream of sample `index` of pixel (`px`, `py`).
     #[inline(always)]
     pub fn new(kind: SamplerKind, px: u32, py: u32, index: u32, seed: u32) -> Self {
-        let pixel_seed = hash32(&[px, py, seed]);
-        let sample_seed = mix32(pixel_seed ^ mix32(index));
-        let sobol = match kind {
-            // The hashes take the index with its bits reversed, the form Owen scrambling
-            // shuffles.
-            SamplerKind::Sobol => sobol_draws(pixel_seed, index.reverse_bits()),
-            SamplerKind::Independent => [Vec2::ZERO; SOBOL_DIMENSIONS as usize],
-        };
-        Self { kind, sample_seed, dimension: 0, sobol }
+        PixelStream::new(kind, px, py, seed).sample(index)
     }
 
     /// The next dimension, one number.
@@ -126,11 +150,9 @@ const SOBOL_LANES: usize = (SOBOL_DIMENSIONS as usize).div_ceil(8) * 8;
 /// drawing them one by one, where each pair's three hashes and three bit reversals wait
 /// on each other.
 #[inline(always)]
-fn sobol_draws(pixel_seed: u32, index_reversed: u32) -> [Vec2; SOBOL_DIMENSIONS as usize] {
-    let mut seed = [0u32; SOBOL_LANES];
+fn sobol_draws(seed: &[u32; SOBOL_LANES], index_reversed: u32) -> [Vec2; SOBOL_DIMENSIONS as usize] {
     let mut shuffled = [0u32; SOBOL_LANES];
-    for (d, (seed, shuffled)) in seed.iter_mut().zip(&mut shuffled).enumerate() {
-        *seed = mix32(pixel_seed ^ salt(d as u32));
+    for (seed, shuffled) in seed.iter().zip(&mut shuffled) {
         // The index under this dimension's nested uniform scramble: power-of-two
         // prefixes of the samples stay whole in every pair.
         *shuffled = laine_karras(index_reversed, *seed).reverse_bits();
