@@ -27,6 +27,20 @@ fn diffuse(albedo: f32) -> MaterialDesc {
     }
 }
 
+/// Smooth glass of index `ior` in air.
+fn glass(ior: f32) -> MaterialDesc {
+    MaterialDesc {
+        bsdf: Some(BsdfDesc::Dielectric {
+            int_ior: ior,
+            ext_ior: 1.0,
+            reflectance: Vec3::ONE,
+            transmittance: Vec3::ONE,
+            alpha: ScalarParam::constant(0.0),
+        }),
+        ..MaterialDesc::default()
+    }
+}
+
 fn path_settings(size: u32, spp: u32, max_depth: u32) -> RenderSettings {
     RenderSettings {
         width: size,
@@ -183,19 +197,7 @@ fn path_traced_images_are_identical_for_any_thread_count() {
             LightDesc::Environment(EnvironmentDesc { radiance: Vec3::splat(0.3), texture: None, transform: vec![] }),
             LightDesc::Point { position: Vec3::new(1.0, 3.0, 1.0), color: Vec3::splat(5.0), attenuation: Vec3::Z },
         ],
-        materials: vec![
-            diffuse(0.5),
-            MaterialDesc {
-                bsdf: Some(BsdfDesc::Dielectric {
-                    int_ior: 1.5,
-                    ext_ior: 1.0,
-                    reflectance: Vec3::ONE,
-                    transmittance: Vec3::ONE,
-                    alpha: ScalarParam::constant(0.0),
-                }),
-                ..MaterialDesc::default()
-            },
-        ],
+        materials: vec![diffuse(0.5), glass(1.5)],
         objects: vec![
             node(ShapeDesc::Plane, 0, vec![TransformOp::Translate(Vec3::new(0.0, -1.0, 0.0))]),
             node(ShapeDesc::Sphere, 1, vec![]),
@@ -220,16 +222,6 @@ fn small_room() -> SceneDesc {
     let rotate = |axis: Vec3, degrees: f32| TransformOp::Rotate { axis, degrees };
     let translate = TransformOp::Translate;
     let lamp = MaterialDesc { emission: Vec3::new(12.0, 10.0, 8.0), ..diffuse(0.5) };
-    let glass = MaterialDesc {
-        bsdf: Some(BsdfDesc::Dielectric {
-            int_ior: 1.5,
-            ext_ior: 1.0,
-            reflectance: Vec3::ONE,
-            transmittance: Vec3::ONE,
-            alpha: ScalarParam::constant(0.0),
-        }),
-        ..MaterialDesc::default()
-    };
     let metal = MaterialDesc {
         bsdf: Some(BsdfDesc::Conductor {
             eta: Vec3::new(0.2, 0.4, 1.4),
@@ -242,7 +234,7 @@ fn small_room() -> SceneDesc {
     SceneDesc {
         settings: path_settings(32, 8, 8),
         camera: camera(Vec3::new(0.0, 0.0, 3.9), Vec3::NEG_Z, 25.0),
-        materials: vec![diffuse(0.7), lamp, glass, metal],
+        materials: vec![diffuse(0.7), lamp, glass(1.5), metal],
         objects: vec![
             node(ShapeDesc::Rectangle, 0, vec![translate(Vec3::new(0.0, -1.0, 0.0))]),
             node(ShapeDesc::Rectangle, 0, vec![rotate(Vec3::X, 180.0), translate(Vec3::new(0.0, 1.0, 0.0))]),
@@ -327,16 +319,7 @@ fn invalid_physical_materials_are_compile_errors_not_panics() {
         bsdf: Some(BsdfDesc::Diffuse { reflectance: ColorParam { value: Vec3::ONE, texture: Some(7) } }),
         ..MaterialDesc::default()
     };
-    let bad_ior = MaterialDesc {
-        bsdf: Some(BsdfDesc::Dielectric {
-            int_ior: -1.5,
-            ext_ior: 1.0,
-            reflectance: Vec3::ONE,
-            transmittance: Vec3::ONE,
-            alpha: ScalarParam::constant(0.0),
-        }),
-        ..MaterialDesc::default()
-    };
+    let bad_ior = glass(-1.5);
     let bad_emission = MaterialDesc { emission: Vec3::new(1.0, f32::NAN, 0.0), ..MaterialDesc::default() };
     for material in [bad_texture, bad_ior, bad_emission] {
         let desc = SceneDesc {
