@@ -94,16 +94,19 @@ struct LaneObject {
     casts_shadow: bool,
 }
 
+/// The kinds the lanes test, in the order [`FewObjects`] keeps them.
+const LANE_KINDS: [ShapeKind; 5] =
+    [ShapeKind::Rectangle, ShapeKind::Disk, ShapeKind::Plane, ShapeKind::Sphere, ShapeKind::Cube];
+
 /// The scene's objects, when there are few enough of kinds the lanes know, for
 /// tracing waves of rays by testing each object once.
 #[derive(Clone, Debug)]
 pub struct FewObjects {
-    /// The objects grouped by kind (rectangles, spheres, cubes), so each kind's test runs
-    /// in a loop of its own, without a branch on the kind per object.
+    /// The objects grouped by kind in the order of [`LANE_KINDS`], so each kind's test
+    /// runs in a loop of its own, without a branch on the kind per object.
     objects: Vec<LaneObject>,
-    /// Where the spheres and where the cubes start in `objects`.
-    spheres: usize,
-    cubes: usize,
+    /// Where each kind's group ends in `objects`.
+    ends: [usize; LANE_KINDS.len()],
 }
 
 impl FewObjects {
@@ -119,40 +122,47 @@ impl FewObjects {
             .enumerate()
             .map(|(index, inst)| lane_object(index as u32, inst, !scene.casts_no_shadow(index as u32)))
             .collect::<Option<Vec<_>>>()?;
-        let rank = |kind: ShapeKind| match kind {
-            ShapeKind::Rectangle => 0,
-            ShapeKind::Sphere => 1,
-            _ => 2,
-        };
+        let rank = |kind: ShapeKind| LANE_KINDS.iter().position(|&k| k == kind).unwrap_or(LANE_KINDS.len());
         // Stable: within a kind the scene's order, as the BVH-free loop had it.
         objects.sort_by_key(|o| rank(o.kind));
-        let spheres = objects.iter().take_while(|o| rank(o.kind) < 1).count();
-        let cubes = objects.iter().take_while(|o| rank(o.kind) < 2).count();
-        Some(FewObjects { objects, spheres, cubes })
+        let ends = std::array::from_fn(|k| objects.iter().take_while(|o| rank(o.kind) <= k).count());
+        Some(FewObjects { objects, ends })
+    }
+
+    /// The objects of kind `LANE_KINDS[k]`.
+    #[inline(always)]
+    fn group(&self, k: usize) -> &[LaneObject] {
+        let start = if k == 0 { 0 } else { self.ends[k - 1] };
+        &self.objects[start..self.ends[k]]
     }
 
     /// The nearest hit in `0 < t < t_max` of every lane of `rays`.
     #[inline(always)]
     pub fn trace(&self, rays: &RayWave) -> WaveHits {
         let mut hits = WaveHits { t: rays.t_max, object: [NO_OBJECT; WAVE], part: [0; WAVE] };
-        let (rectangles, rest) = self.objects.split_at(self.spheres);
-        let (spheres, cubes) = rest.split_at(self.cubes - self.spheres);
-        for object in rectangles {
-            let t_max = object.t_max_for(rays, &hits);
-            let t = rectangle(&object.rays_in_object_space(rays), &t_max);
-            hits.keep_closer(&t, &[0; WAVE], object.index);
-        }
-        for object in spheres {
-            let t_max = object.t_max_for(rays, &hits);
-            let t = sphere(&object.rays_in_object_space(rays), &t_max);
-            hits.keep_closer(&t, &[0; WAVE], object.index);
-        }
-        for object in cubes {
-            let t_max = object.t_max_for(rays, &hits);
-            let (t, part) = cube(&object.rays_in_object_space(rays), &t_max);
-            hits.keep_closer(&t, &part, object.index);
-        }
+        let no_parts = [0; WAVE];
+        test_each(self.group(0), rays, &mut hits, |local, t_max| (rectangle(local, t_max), no_parts));
+        test_each(self.group(1), rays, &mut hits, |local, t_max| (disk(local, t_max), no_parts));
+        test_each(self.group(2), rays, &mut hits, |local, t_max| (plane(local, t_max), no_parts));
+        test_each(self.group(3), rays, &mut hits, |local, t_max| (sphere(local, t_max), no_parts));
+        test_each(self.group(4), rays, &mut hits, cube);
         hits
+    }
+}
+
+/// Tests every object of `objects`, all of one kind, whose lane test is `test` (the
+/// hits' `t`, `f32::INFINITY` for none, and parts), keeping the closer hits.
+#[inline(always)]
+fn test_each(
+    objects: &[LaneObject],
+    rays: &RayWave,
+    hits: &mut WaveHits,
+    test: impl Fn(&LocalWave, &Lanes) -> (Lanes, [u32; WAVE]),
+) {
+    for object in objects {
+        let t_max = object.t_max_for(rays, hits);
+        let (t, part) = test(&object.rays_in_object_space(rays), &t_max);
+        hits.keep_closer(&t, &part, object.index);
     }
 }
 
@@ -173,7 +183,7 @@ impl RenderScene {
 }
 
 fn lane_object(index: u32, inst: &Instance, casts_shadow: bool) -> Option<LaneObject> {
-    let supported = matches!(inst.shape.kind, ShapeKind::Rectangle | ShapeKind::Sphere | ShapeKind::Cube);
+    let supported = LANE_KINDS.contains(&inst.shape.kind);
     if !supported || inst.motion != NO_MOTION {
         return None;
     }
@@ -230,6 +240,32 @@ fn rectangle(ray: &LocalWave, t_max: &Lanes) -> Lanes {
         let t = -oy[lane] / ray.dir[1][lane];
         let (px, pz) = (ox[lane] + t * dx[lane], oz[lane] + t * dz[lane]);
         let hit = (t > 0.0) & (t < t_max[lane]) & (px.abs() <= 1.0) & (pz.abs() <= 1.0);
+        out[lane] = if hit { t } else { f32::INFINITY };
+    }
+    out
+}
+
+/// [`crate::shape::Disk`]'s test in lanes.
+#[inline(always)]
+fn disk(ray: &LocalWave, t_max: &Lanes) -> Lanes {
+    let ([ox, oy, oz], [dx, _, dz]) = (&ray.origin, &ray.dir);
+    let mut out = [0.0; WAVE];
+    for lane in 0..WAVE {
+        let t = -oy[lane] / ray.dir[1][lane];
+        let (px, pz) = (ox[lane] + t * dx[lane], oz[lane] + t * dz[lane]);
+        let hit = (t > 0.0) & (t < t_max[lane]) & (px * px + pz * pz <= 1.0);
+        out[lane] = if hit { t } else { f32::INFINITY };
+    }
+    out
+}
+
+/// [`crate::shape::Plane`]'s test in lanes.
+#[inline(always)]
+fn plane(ray: &LocalWave, t_max: &Lanes) -> Lanes {
+    let mut out = [0.0; WAVE];
+    for lane in 0..WAVE {
+        let t = -ray.origin[1][lane] / ray.dir[1][lane];
+        let hit = (t > 0.0) & (t < t_max[lane]);
         out[lane] = if hit { t } else { f32::INFINITY };
     }
     out
@@ -318,8 +354,8 @@ mod tests {
     use super::*;
     use glam::Vec3;
 
-    /// A box of rectangles with a cube and a sphere inside, the last material casting
-    /// no shadow.
+    /// A box of rectangles with a cube, a sphere, a disk and a tilted plane inside,
+    /// and a sphere whose material casts no shadow.
     fn scene() -> RenderScene {
         use crate::desc::{MaterialDesc, NodeDesc, NodeKind, SceneDesc, ShapeDesc, TransformOp};
         let rotate = |axis: Vec3, degrees: f32| TransformOp::Rotate { axis, degrees };
@@ -347,6 +383,11 @@ mod tests {
         objects.push(node(ShapeDesc::Sphere, sphere, 0));
         let hidden = vec![TransformOp::Scale(Vec3::splat(0.2)), translate(Vec3::new(0.0, 0.3, 0.0))];
         objects.push(node(ShapeDesc::Sphere, hidden, 1));
+        let disk =
+            vec![TransformOp::Scale(Vec3::splat(0.35)), rotate(Vec3::X, 30.0), translate(Vec3::new(-0.3, 0.5, -0.2))];
+        objects.push(node(ShapeDesc::Disk, disk, 0));
+        let plane = vec![rotate(Vec3::Z, 4.0), translate(Vec3::new(0.0, -0.85, 0.0))];
+        objects.push(node(ShapeDesc::Plane, plane, 0));
         let shadowless = MaterialDesc { casts_shadows: false, ..MaterialDesc::default() };
         let desc = SceneDesc { materials: vec![MaterialDesc::default(), shadowless], objects, ..Default::default() };
         super::super::compile(&desc).expect("the test scene compiles")
@@ -372,7 +413,8 @@ mod tests {
     #[test]
     fn waves_find_the_hits_single_rays_find() {
         let scene = scene();
-        let few = FewObjects::of(&scene).expect("rectangles, a cube and a sphere are few objects");
+        let few = FewObjects::of(&scene).expect("rectangles, a cube, spheres, a disk and a plane are few objects");
+        let mut found_on = vec![false; scene.instances.len()];
         for chunk in rays().chunks(WAVE) {
             let mut wave = RayWave::default();
             for (lane, ray) in chunk.iter().enumerate() {
@@ -385,6 +427,7 @@ mod tests {
                 match (expected, found) {
                     (None, None) => {}
                     (Some(a), Some(b)) => {
+                        found_on[b.instance as usize] = true;
                         assert_eq!(a.t, b.t, "ray {ray:?}");
                         // Only an exact tie may pick another object.
                         if a.instance != b.instance {
@@ -397,6 +440,8 @@ mod tests {
                 }
             }
         }
+        // Every object, of every kind, is the nearest hit of some ray.
+        assert!(found_on.iter().all(|&found| found), "{found_on:?}");
     }
 
     #[test]
@@ -426,11 +471,14 @@ mod tests {
         let scene = scene();
         let few = FewObjects::of(&scene).unwrap();
         let mut wave = RayWave::default();
-        wave.set(3, &Ray::new(Vec3::ZERO, Vec3::new(0.0, -1.0, 0.0)), f32::INFINITY, false);
+        let down = Ray::new(Vec3::ZERO, Vec3::new(0.0, -1.0, 0.0));
+        wave.set(3, &down, f32::INFINITY, false);
         let hits = few.trace(&wave);
         for lane in 0..WAVE {
             assert_eq!(hits.object[lane] == NO_OBJECT, lane != 3, "lane {lane}");
         }
-        assert_eq!(hits.t[3], 1.0);
+        // Straight down onto the tilted plane just above the floor.
+        assert_eq!(hits.t[3], scene.intersect(&down, f32::INFINITY).unwrap().t);
+        assert!((hits.t[3] - 0.85).abs() < 1e-3, "{}", hits.t[3]);
     }
 }
