@@ -325,6 +325,7 @@ impl SurfaceBsdf<'_> {
         self.eval_any(wo, wi)
     }
 
+    /// [`SurfaceBsdf::eval`] for every kind, diffuse included.
     #[inline]
     fn eval_any(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         match self.record.kind {
@@ -353,6 +354,7 @@ impl SurfaceBsdf<'_> {
         self.pdf_any(wo, wi)
     }
 
+    /// [`SurfaceBsdf::pdf`] for every kind, diffuse included.
     #[inline]
     fn pdf_any(&self, wo: Vec3, wi: Vec3) -> f32 {
         match self.record.kind {
@@ -382,6 +384,7 @@ impl SurfaceBsdf<'_> {
         self.sample_any(wo, u_lobe, u)
     }
 
+    /// [`SurfaceBsdf::sample`] for every kind, diffuse included.
     #[inline]
     fn sample_any(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
         match self.record.kind {
