@@ -230,45 +230,40 @@ impl LaneObject {
     }
 }
 
-/// [`crate::shape::Rectangle`]'s test in lanes; `f32::INFINITY` where a ray misses.
-/// (Written without short-circuits, as every lane test here, so the loop vectorizes.)
+/// The hits of the lanes on the plane `y = 0` of object space where `inside(x, z)`
+/// holds of the point met: the test of [`crate::shape::Rectangle`],
+/// [`crate::shape::Disk`] and [`crate::shape::Plane`], which differ only there;
+/// `f32::INFINITY` where a ray misses. (Written without short-circuits, as every lane
+/// test here, so the loop vectorizes.)
+#[inline(always)]
+fn flat(ray: &LocalWave, t_max: &Lanes, inside: impl Fn(f32, f32) -> bool) -> Lanes {
+    let ([ox, oy, oz], [dx, dy, dz]) = (&ray.origin, &ray.dir);
+    let mut out = [0.0; WAVE];
+    for lane in 0..WAVE {
+        let t = -oy[lane] / dy[lane];
+        let (px, pz) = (ox[lane] + t * dx[lane], oz[lane] + t * dz[lane]);
+        let hit = (t > 0.0) & (t < t_max[lane]) & inside(px, pz);
+        out[lane] = if hit { t } else { f32::INFINITY };
+    }
+    out
+}
+
+/// [`crate::shape::Rectangle`]'s test in lanes: the square `|x|, |z| ≤ 1`.
 #[inline(always)]
 fn rectangle(ray: &LocalWave, t_max: &Lanes) -> Lanes {
-    let ([ox, oy, oz], [dx, _, dz]) = (&ray.origin, &ray.dir);
-    let mut out = [0.0; WAVE];
-    for lane in 0..WAVE {
-        let t = -oy[lane] / ray.dir[1][lane];
-        let (px, pz) = (ox[lane] + t * dx[lane], oz[lane] + t * dz[lane]);
-        let hit = (t > 0.0) & (t < t_max[lane]) & (px.abs() <= 1.0) & (pz.abs() <= 1.0);
-        out[lane] = if hit { t } else { f32::INFINITY };
-    }
-    out
+    flat(ray, t_max, |x, z| (x.abs() <= 1.0) & (z.abs() <= 1.0))
 }
 
-/// [`crate::shape::Disk`]'s test in lanes.
+/// [`crate::shape::Disk`]'s test in lanes: the unit disk.
 #[inline(always)]
 fn disk(ray: &LocalWave, t_max: &Lanes) -> Lanes {
-    let ([ox, oy, oz], [dx, _, dz]) = (&ray.origin, &ray.dir);
-    let mut out = [0.0; WAVE];
-    for lane in 0..WAVE {
-        let t = -oy[lane] / ray.dir[1][lane];
-        let (px, pz) = (ox[lane] + t * dx[lane], oz[lane] + t * dz[lane]);
-        let hit = (t > 0.0) & (t < t_max[lane]) & (px * px + pz * pz <= 1.0);
-        out[lane] = if hit { t } else { f32::INFINITY };
-    }
-    out
+    flat(ray, t_max, |x, z| x * x + z * z <= 1.0)
 }
 
-/// [`crate::shape::Plane`]'s test in lanes.
+/// [`crate::shape::Plane`]'s test in lanes: all of it.
 #[inline(always)]
 fn plane(ray: &LocalWave, t_max: &Lanes) -> Lanes {
-    let mut out = [0.0; WAVE];
-    for lane in 0..WAVE {
-        let t = -ray.origin[1][lane] / ray.dir[1][lane];
-        let hit = (t > 0.0) & (t < t_max[lane]);
-        out[lane] = if hit { t } else { f32::INFINITY };
-    }
-    out
+    flat(ray, t_max, |_, _| true)
 }
 
 /// [`crate::shape::Sphere`]'s test in lanes (from the line's point nearest the centre).
