@@ -42,7 +42,7 @@ pub fn concentric_disk(u: Vec2) -> Vec2 {
 /// rounding, at a fraction of the cost of a general `sin_cos` (the path tracer's
 /// diffuse sampling calls this once per bounce).
 #[inline]
-fn sin_cos_quarter_pi(q: f32) -> (f32, f32) {
+pub(crate) fn sin_cos_quarter_pi(q: f32) -> (f32, f32) {
     let x = std::f32::consts::FRAC_PI_4 * q;
     let x2 = x * x;
     let sin = x * (1.0 + x2 * (-1.0 / 6.0 + x2 * (1.0 / 120.0 + x2 * (-1.0 / 5040.0 + x2 * (1.0 / 362_880.0)))));

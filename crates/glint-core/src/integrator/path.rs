@@ -8,6 +8,10 @@
 //! only one strategy can find, get full weight. Depth and Russian roulette are counted
 //! as Mitsuba 3's `path` integrator counts them, so `max_depth` means the same there.
 
+mod wave;
+
+pub use wave::{DiffuseVertex, advance_diffuse};
+
 use glam::{Vec2, Vec3};
 
 use super::{Counters, SurfaceId};
@@ -254,9 +258,16 @@ impl PathState {
         self.ray = Ray::new(offset_ray_origin(hit.point, side_normal(&hit, wi)), wi).at_time(ray.time);
         self.previous = Some(Bounce { point: hit.point, pdf: sample.pdf, delta: sample.delta });
         self.depth += 1;
+        self.go_on_after_bounce(&hit, sampler, counters);
+    }
 
+    /// After a bounce from `hit` has set the next ray and throughput: voids the sample
+    /// on a non-finite throughput, ends a path that carries nothing, plays roulette,
+    /// and otherwise sets the path tracing.
+    #[inline(always)]
+    fn go_on_after_bounce(&mut self, hit: &Hit, sampler: &mut PathSampler, counters: &mut Counters) {
         if !self.throughput.is_finite() {
-            counters.blame(&hit);
+            counters.blame(hit);
             self.stage = Stage::Void;
             return;
         }
@@ -354,19 +365,7 @@ fn direct_light(
     time: f32,
     counters: &mut Counters,
 ) -> Option<(Ray, f32, Vec3)> {
-    let selection = scene.light_selection.as_ref()?;
-    let (index, _) = selection.sample_discrete(u_select);
-    let p_select = selection.probability(index);
-    let emitter = &scene.emitters[index];
-    let sample = if emitter.kind == EmitterKind::Environment {
-        let (wi, radiance, pdf) = scene.environment.as_ref().and_then(|env| env.sample(u))?;
-        LightSample { wi, distance: f32::INFINITY, radiance, pdf, delta: false }
-    } else {
-        emitter.sample(hit.point, u)?
-    };
-    if (sample.pdf.is_nan() || sample.pdf <= 0.0) || sample.radiance == Vec3::ZERO {
-        return None;
-    }
+    let (sample, p_select) = light_sample(scene, hit.point, (u_select, u))?;
     let wi = frame.to_local(sample.wi);
     if !same_side_story(hit, (frame.to_world(wo), sample.wi), (wo, wi)) {
         return None;
@@ -382,4 +381,24 @@ fn direct_light(
     let light_pdf = p_select * sample.pdf;
     let weight = if sample.delta { 1.0 } else { power_heuristic(light_pdf, bsdf.pdf(wo, wi)) };
     Some((Ray::new(origin, sample.wi).at_time(time), t_max, f * sample.radiance * (weight / light_pdf)))
+}
+
+/// An emitter chosen by power with `u_select` and a sample of it from `point` placed by
+/// `u`, with the probability of the choice; `None` when the sample carries nothing.
+#[inline(always)]
+fn light_sample(scene: &RenderScene, point: Vec3, (u_select, u): (f32, Vec2)) -> Option<(LightSample, f32)> {
+    let selection = scene.light_selection.as_ref()?;
+    let (index, _) = selection.sample_discrete(u_select);
+    let p_select = selection.probability(index);
+    let emitter = &scene.emitters[index];
+    let sample = if emitter.kind == EmitterKind::Environment {
+        let (wi, radiance, pdf) = scene.environment.as_ref().and_then(|env| env.sample(u))?;
+        LightSample { wi, distance: f32::INFINITY, radiance, pdf, delta: false }
+    } else {
+        emitter.sample(point, u)?
+    };
+    if (sample.pdf.is_nan() || sample.pdf <= 0.0) || sample.radiance == Vec3::ZERO {
+        return None;
+    }
+    Some((sample, p_select))
 }

@@ -6,9 +6,10 @@ pub mod polynomial;
 mod ray;
 pub mod roots;
 mod transform;
+pub mod wide;
 
 pub use aabb::{Aabb, ROBUST_FAR};
-pub use offset::offset_ray_origin;
+pub use offset::{offset_ray_origin, offset_ray_origins};
 pub use ray::Ray;
 pub use transform::Transform;
 

@@ -14,7 +14,7 @@ use std::array;
 use super::{TileFilm, Traced, path_camera_ray, pixel_stream};
 use crate::film::Aov;
 use crate::integrator::Counters;
-use crate::integrator::path::PathState;
+use crate::integrator::path::{DiffuseVertex, PathState, advance_diffuse};
 use crate::sampling::{PathSampler, PixelStream};
 use crate::scene::{FewObjects, NO_OBJECT, RayWave, RenderScene, WAVE};
 
@@ -101,16 +101,30 @@ pub(super) fn path_tile_in_waves(
             return;
         }
         let hits = few.trace(&wave);
+        // Vertices on plain diffuse surfaces are shaded together, the others each alone.
+        let mut diffuse: [Option<DiffuseVertex>; WAVE] = array::from_fn(|_| None);
         for (k, slot) in lanes.iter_mut().enumerate() {
             let Some(lane) = slot else { continue };
             if wave.shadow[k] != 0 {
                 lane.path.resolve_shadow(hits.object[k] != NO_OBJECT, &mut lane.counters);
             } else if let Some(ray) = lane.path.next_ray() {
                 let hit = scene.few_objects_hit(&ray, &hits, k);
-                let aov = (lane.at_camera && scene.settings.aovs).then_some(&mut lane.aov);
+                let wants_aov = lane.at_camera && scene.settings.aovs;
                 lane.at_camera = false;
-                lane.path.advance(scene, hit, &mut lane.sampler, &mut lane.counters, aov);
+                match hit {
+                    Some(hit) if !wants_aov && lane.path.shades_in_wave(scene, &hit) => {
+                        let (path, sampler, counters) = (&mut lane.path, &mut lane.sampler, &mut lane.counters);
+                        diffuse[k] = Some(DiffuseVertex { path, sampler, counters, hit });
+                    }
+                    _ => {
+                        let aov = wants_aov.then_some(&mut lane.aov);
+                        lane.path.advance(scene, hit, &mut lane.sampler, &mut lane.counters, aov);
+                    }
+                }
             }
+        }
+        if diffuse.iter().any(Option::is_some) {
+            advance_diffuse(scene, &mut diffuse);
         }
     }
 }

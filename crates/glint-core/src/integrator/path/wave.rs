@@ -1,0 +1,285 @@
+//! Diffuse vertices of a wave of paths, shaded side by side.
+//!
+//! In a wave ([`crate::render`]'s waves of eight paths) most rays end on plain diffuse
+//! surfaces. Shading such a vertex one path at a time is a chain of dependent square
+//! roots and divisions (normalizing, the light's density, the MIS weight, the disk map
+//! of the cosine lobe), each waiting on the last; eight of them side by side in vector
+//! lanes cost about what one does. [`advance_diffuse`] does for those vertices what
+//! [`PathState::advance`] does — the same operations in the same order on
+//! [`crate::math::wide`]'s lanes, so each path takes the very values it would alone —
+//! while what is per path by nature (its sampler, the choice of light, roulette, the
+//! bookkeeping) stays per path.
+
+// Lane loops index several arrays by the same lane: written so, they vectorize.
+#![allow(clippy::needless_range_loop)]
+
+use glam::Vec2;
+use std::f32::consts::FRAC_1_PI;
+
+use super::{Bounce, PathState, ShadowRay, Stage, light_sample, power_heuristic};
+use crate::bsdf::{BsdfKind, TWO_SIDED, lobes};
+use crate::integrator::{Counters, SurfaceId};
+use crate::material::NO_TEXTURE;
+use crate::math::wide::{F8, M8, V8, WIDTH};
+use crate::math::{Ray, offset_ray_origins};
+use crate::sampling::PathSampler;
+use crate::scene::{Hit, RenderScene};
+
+/// A path whose ray has just found a diffuse surface at `hit` (see
+/// [`PathState::shades_in_wave`]), with what shading it touches.
+pub struct DiffuseVertex<'a> {
+    pub path: &'a mut PathState,
+    pub sampler: &'a mut PathSampler,
+    pub counters: &'a mut Counters,
+    pub hit: Hit,
+}
+
+impl PathState {
+    /// Whether [`advance_diffuse`] can take the vertex at `hit`: a plain diffuse
+    /// surface (untextured colour, no emission) the path does not end on for its depth.
+    #[inline(always)]
+    pub fn shades_in_wave(&self, scene: &RenderScene, hit: &Hit) -> bool {
+        let record = &scene.bsdfs[hit.material as usize];
+        record.kind == BsdfKind::Diffuse
+            && record.color_texture == NO_TEXTURE
+            && !record.is_emissive()
+            && self.radiance.is_finite()
+            && self.depth.saturating_add(1) < self.limits.max_depth
+    }
+}
+
+/// The vertices of a wave, gathered into lanes: lane `k` holds `vertices[k]`'s values,
+/// or zeros where there is none (whose results are never read).
+#[derive(Default)]
+struct Gathered {
+    active: M8,
+    point: V8,
+    normal: V8,
+    geometric_normal: V8,
+    dir: V8,
+    color: V8,
+    two_sided: M8,
+    throughput: V8,
+    u_dir: [Vec2; WIDTH],
+    /// The light sample: where it is valid, its direction, distance, radiance, density
+    /// (times the probability of choosing its emitter) and whether it is a delta.
+    has_light: M8,
+    light_wi: V8,
+    light_distance: F8,
+    light_radiance: V8,
+    light_pdf: F8,
+    light_delta: M8,
+}
+
+/// Shades the vertices of `vertices` (each lane at most one) as
+/// [`PathState::advance`] would each alone.
+#[inline(always)]
+pub fn advance_diffuse(scene: &RenderScene, vertices: &mut [Option<DiffuseVertex>; WIDTH]) {
+    let g = gather(scene, vertices);
+    let lanes = shade(&g);
+    for (k, vertex) in vertices.iter_mut().enumerate() {
+        if let Some(v) = vertex {
+            finish(v, &lanes, k);
+        }
+    }
+}
+
+/// Each vertex's values, and the numbers its sampler draws before roulette: the
+/// choice of light, the light sample's place, the BSDF direction.
+#[inline(always)]
+fn gather(scene: &RenderScene, vertices: &mut [Option<DiffuseVertex>; WIDTH]) -> Gathered {
+    let mut g = Gathered::default();
+    let all = u32::MAX;
+    for (k, vertex) in vertices.iter_mut().enumerate() {
+        let Some(v) = vertex else { continue };
+        let (hit, path) = (&v.hit, &v.path);
+        let record = &scene.bsdfs[hit.material as usize];
+        g.active.0[k] = all;
+        g.point.set(k, hit.point);
+        g.normal.set(k, hit.normal);
+        g.geometric_normal.set(k, hit.geometric_normal);
+        g.dir.set(k, path.ray.dir);
+        g.color.set(k, record.color * hit.color);
+        g.two_sided.0[k] = if record.flags & TWO_SIDED != 0 { all } else { 0 };
+        g.throughput.set(k, path.throughput);
+        let choices = v.sampler.next_2d();
+        let u_light = v.sampler.next_2d();
+        g.u_dir[k] = v.sampler.next_2d();
+        if let Some((sample, p_select)) = light_sample(scene, hit.point, (choices.x, u_light)) {
+            g.has_light.0[k] = all;
+            g.light_wi.set(k, sample.wi);
+            g.light_distance.0[k] = sample.distance;
+            g.light_radiance.set(k, sample.radiance);
+            g.light_pdf.0[k] = p_select * sample.pdf;
+            g.light_delta.0[k] = if sample.delta { all } else { 0 };
+        }
+    }
+    g
+}
+
+/// What the lanes computed: the shadow ray and its light, the next ray and its
+/// weight, and which lanes have each.
+struct Shaded {
+    has_shadow: M8,
+    shadow_origin: V8,
+    shadow_dir: V8,
+    shadow_t_max: F8,
+    shadow_light: V8,
+    goes_on: M8,
+    next_origin: V8,
+    next_dir: V8,
+    next_pdf: F8,
+    throughput: V8,
+}
+
+/// The shading frame: z along the unit normal `n` (glam's `any_orthonormal_pair`,
+/// as [`super::Frame`] builds it).
+#[derive(Clone, Copy)]
+struct Frame8 {
+    s: V8,
+    t: V8,
+    n: V8,
+}
+
+impl Frame8 {
+    #[inline(always)]
+    fn new(n: V8) -> Self {
+        let one = F8::splat(1.0);
+        let sign = n.z.map(f32::signum);
+        let a = F8::splat(-1.0) / (sign + n.z);
+        let b = n.x * n.y * a;
+        let s = V8::new(one + sign * n.x * n.x * a, sign * b, -sign * n.x);
+        let t = V8::new(b, sign + n.y * n.y * a, -n.y);
+        Frame8 { s, t, n }
+    }
+
+    #[inline(always)]
+    fn to_local(self, v: V8) -> V8 {
+        V8::new(v.dot(self.s), v.dot(self.t), v.dot(self.n))
+    }
+
+    #[inline(always)]
+    fn to_world(self, v: V8) -> V8 {
+        self.s.scale(v.x) + self.t.scale(v.y) + self.n.scale(v.z)
+    }
+}
+
+/// `path.rs`'s `same_side_story` in lanes.
+#[inline(always)]
+fn same_side_story(ng: V8, (wo_world, wi_world): (V8, V8), (wo, wi): (V8, V8)) -> M8 {
+    let zero = F8::splat(0.0);
+    let local = (wo.z * wi.z).is_gt(zero);
+    let true_surface = (ng.dot(wo_world) * ng.dot(wi_world)).is_gt(zero);
+    // Equal masks: both set or both clear.
+    M8(std::array::from_fn(|k| !(local.0[k] ^ true_surface.0[k])))
+}
+
+/// `path.rs`'s `side_normal` in lanes: the geometric normal on `w`'s side.
+#[inline(always)]
+fn side_normal(ng: V8, w: V8) -> V8 {
+    ng.dot(w).test(F8::splat(0.0), |a, b| a >= b).select3(ng, -ng)
+}
+
+/// The lanes' part of [`PathState::advance`] for a diffuse vertex.
+#[inline(always)]
+fn shade(g: &Gathered) -> Shaded {
+    let (zero, one) = (F8::splat(0.0), F8::splat(1.0));
+    let wo_world = -g.dir.normalize();
+    let frame = Frame8::new(g.normal);
+    let wo = frame.to_local(wo_world);
+    let ng = g.geometric_normal;
+    // The side the surface reflects on: the front, or the back of a two-sided one.
+    let front = wo.z.is_gt(zero);
+    let reflects = front.or(wo.z.is_lt(zero).and(g.two_sided));
+    let side = front.select(one, -one);
+    let lambert = g.color.scale(F8::splat(FRAC_1_PI));
+
+    // The light sample: f·|cos θ|, MIS-weighted against the BSDF's density.
+    let wi = frame.to_local(g.light_wi);
+    let agrees = same_side_story(ng, (frame.to_world(wo), g.light_wi), (wo, wi));
+    let lit = reflects.and_not((wi.z * side).is_le(zero));
+    let f = lit.select3(lambert, V8::default()).scale(wi.z.abs());
+    let black = f.x.is_eq(zero).and(f.y.is_eq(zero)).and(f.z.is_eq(zero));
+    let has_shadow = g.active.and(g.has_light).and(agrees).and_not(black);
+    let shadow_origin = offset_ray_origins(g.point, side_normal(ng, g.light_wi));
+    let distance = g.light_distance;
+    let finite = distance.test(distance, |d, _| d.is_finite());
+    let shadow_t_max = finite.select(distance * F8::splat(1.0 - 1e-4), F8::splat(f32::INFINITY));
+    let z = wi.z * side;
+    let bsdf_pdf = lit.select(z.max(zero) * F8::splat(FRAC_1_PI), zero);
+    let mis = g.light_pdf.zip(bsdf_pdf, power_heuristic);
+    let weight = g.light_delta.select(one, mis);
+    let value = (f * g.light_radiance).scale(weight / g.light_pdf);
+    let shadow_light = g.throughput * value;
+
+    // The BSDF sample: a cosine-weighted direction on the reflecting side.
+    let d = cosine_hemisphere(&g.u_dir);
+    let drawn = d.z.is_gt(zero);
+    let next_pdf = d.z.max(zero) * F8::splat(FRAC_1_PI);
+    let wi = V8::new(d.x, d.y, d.z * side);
+    let next_dir = frame.to_world(wi);
+    let agrees = same_side_story(ng, (wo_world, next_dir), (wo, wi));
+    let goes_on = g.active.and(reflects).and(drawn).and(agrees);
+    let next_origin = offset_ray_origins(g.point, side_normal(ng, next_dir));
+    Shaded {
+        has_shadow,
+        shadow_origin,
+        shadow_dir: g.light_wi,
+        shadow_t_max,
+        shadow_light,
+        goes_on,
+        next_origin,
+        next_dir,
+        next_pdf,
+        throughput: g.throughput * g.color,
+    }
+}
+
+/// `lobes::cosine_hemisphere` in lanes: Malley's method over the concentric disk.
+#[inline(always)]
+fn cosine_hemisphere(u: &[Vec2; WIDTH]) -> V8 {
+    let (mut dx, mut dy) = (F8::default(), F8::default());
+    for k in 0..WIDTH {
+        dx.0[k] = 2.0 * u[k].x - 1.0;
+        dy.0[k] = 2.0 * u[k].y - 1.0;
+    }
+    let zero = F8::splat(0.0);
+    let centre = dx.is_eq(zero).and(dy.is_eq(zero));
+    let near_x = dx.abs().is_gt(dy.abs());
+    let q = near_x.select(dy / dx, dx / dy);
+    let (mut sin, mut cos) = (F8::default(), F8::default());
+    for k in 0..WIDTH {
+        (sin.0[k], cos.0[k]) = lobes::sin_cos_quarter_pi(q.0[k]);
+    }
+    let radius = near_x.select(dx, dy);
+    let x = centre.select(zero, near_x.select(radius * cos, radius * sin));
+    let y = centre.select(zero, near_x.select(radius * sin, radius * cos));
+    let z = (F8::splat(1.0) - (x * x + y * y)).max(zero).sqrt();
+    V8::new(x, y, z)
+}
+
+/// Lane `k`'s results written back to its path, and what stays per path: counting
+/// rays, blaming a non-finite throughput, roulette.
+#[inline(always)]
+fn finish(v: &mut DiffuseVertex, lanes: &Shaded, k: usize) {
+    let time = v.path.ray.time;
+    let path = &mut *v.path;
+    if lanes.has_shadow.get(k) {
+        v.counters.rays += 1;
+        path.shadow = Some(ShadowRay {
+            ray: Ray::new(lanes.shadow_origin.get(k), lanes.shadow_dir.get(k)).at_time(time),
+            t_max: lanes.shadow_t_max.0[k],
+            light: lanes.shadow_light.get(k),
+            from: SurfaceId::of(&v.hit),
+        });
+    }
+    path.stage = Stage::Done;
+    if !lanes.goes_on.get(k) {
+        return;
+    }
+    path.throughput = lanes.throughput.get(k);
+    path.ray = Ray::new(lanes.next_origin.get(k), lanes.next_dir.get(k)).at_time(time);
+    path.previous = Some(Bounce { point: v.hit.point, pdf: lanes.next_pdf.0[k], delta: false });
+    path.depth += 1;
+    path.go_on_after_bounce(&v.hit, v.sampler, v.counters);
+}
