@@ -30,7 +30,7 @@ pub struct Counters {
 }
 
 /// A surface of the compiled scene: an instance and the material it was shaded with.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct SurfaceId {
     /// Index into [`crate::scene::RenderScene::instances`].
     pub instance: u32,

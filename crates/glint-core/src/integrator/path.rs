@@ -10,7 +10,7 @@
 
 mod wave;
 
-pub use wave::{DiffuseVertex, advance_diffuse};
+pub use wave::{DiffuseWave, LanePath};
 
 use glam::{Vec2, Vec3};
 
@@ -258,16 +258,16 @@ impl PathState {
         self.ray = Ray::new(offset_ray_origin(hit.point, side_normal(&hit, wi)), wi).at_time(ray.time);
         self.previous = Some(Bounce { point: hit.point, pdf: sample.pdf, delta: sample.delta });
         self.depth += 1;
-        self.go_on_after_bounce(&hit, sampler, counters);
+        self.go_on_after_bounce(SurfaceId::of(&hit), sampler, counters);
     }
 
-    /// After a bounce from `hit` has set the next ray and throughput: voids the sample
+    /// After a bounce from `surface` has set the next ray and throughput: voids the sample
     /// on a non-finite throughput, ends a path that carries nothing, plays roulette,
     /// and otherwise sets the path tracing.
     #[inline(always)]
-    fn go_on_after_bounce(&mut self, hit: &Hit, sampler: &mut PathSampler, counters: &mut Counters) {
+    fn go_on_after_bounce(&mut self, surface: SurfaceId, sampler: &mut PathSampler, counters: &mut Counters) {
         if !self.throughput.is_finite() {
-            counters.blame(hit);
+            counters.blame_surface(surface);
             self.stage = Stage::Void;
             return;
         }

@@ -221,8 +221,11 @@ impl V8 {
     #[inline(always)]
     pub fn normalize_or_zero(self) -> V8 {
         let rcp = F8::splat(1.0) / self.dot(self).sqrt();
-        // Finite and positive: 0 < 1/|v| < ∞ (NaN fails both), without a branch.
-        let usable = rcp.is_gt(F8::splat(0.0)).and(rcp.is_lt(F8::splat(f32::INFINITY)));
+        // Finite (r − r = 0 fails for ∞ and NaN) and positive. (Written as `is_finite`
+        // or `< ∞`, LLVM turns the test into integer checks of each lane's bits, one
+        // lane at a time.)
+        let finite = (rcp - rcp).is_eq(F8::splat(0.0));
+        let usable = rcp.is_gt(F8::splat(0.0)).and(finite);
         usable.select3(self.scale(rcp), V8::default())
     }
 

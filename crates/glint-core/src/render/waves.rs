@@ -14,7 +14,7 @@ use std::array;
 use super::{TileFilm, Traced, path_camera_ray, pixel_stream};
 use crate::film::Aov;
 use crate::integrator::Counters;
-use crate::integrator::path::{DiffuseVertex, PathState, advance_diffuse};
+use crate::integrator::path::{DiffuseWave, LanePath, PathState};
 use crate::sampling::{PathSampler, PixelStream};
 use crate::scene::{FewObjects, NO_OBJECT, RayWave, RenderScene, WAVE};
 
@@ -102,7 +102,7 @@ pub(super) fn path_tile_in_waves(
         }
         let hits = few.trace(&wave);
         // Vertices on plain diffuse surfaces are shaded together, the others each alone.
-        let mut diffuse: [Option<DiffuseVertex>; WAVE] = array::from_fn(|_| None);
+        let mut diffuse = DiffuseWave::default();
         for (k, slot) in lanes.iter_mut().enumerate() {
             let Some(lane) = slot else { continue };
             if wave.shadow[k] != 0 {
@@ -113,8 +113,7 @@ pub(super) fn path_tile_in_waves(
                 lane.at_camera = false;
                 match hit {
                     Some(hit) if !wants_aov && lane.path.shades_in_wave(scene, &hit) => {
-                        let (path, sampler, counters) = (&mut lane.path, &mut lane.sampler, &mut lane.counters);
-                        diffuse[k] = Some(DiffuseVertex { path, sampler, counters, hit });
+                        diffuse.add(scene, k, &lane.path, &mut lane.sampler, &hit);
                     }
                     _ => {
                         let aov = wants_aov.then_some(&mut lane.aov);
@@ -123,8 +122,11 @@ pub(super) fn path_tile_in_waves(
                 }
             }
         }
-        if diffuse.iter().any(Option::is_some) {
-            advance_diffuse(scene, &mut diffuse);
+        if !diffuse.is_empty() {
+            diffuse.advance(lanes.iter_mut().map(|slot| {
+                let lane = slot.as_mut()?;
+                Some(LanePath { path: &mut lane.path, sampler: &mut lane.sampler, counters: &mut lane.counters })
+            }));
         }
     }
 }

@@ -4,7 +4,7 @@
 //! surfaces. Shading such a vertex one path at a time is a chain of dependent square
 //! roots and divisions (normalizing, the light's density, the MIS weight, the disk map
 //! of the cosine lobe), each waiting on the last; eight of them side by side in vector
-//! lanes cost about what one does. [`advance_diffuse`] does for those vertices what
+//! lanes cost about what one does. [`DiffuseWave`] does for those vertices what
 //! [`PathState::advance`] does — the same operations in the same order on
 //! [`crate::math::wide`]'s lanes, so each path takes the very values it would alone —
 //! while what is per path by nature (its sampler, the choice of light, roulette, the
@@ -25,17 +25,8 @@ use crate::math::{Ray, offset_ray_origins};
 use crate::sampling::PathSampler;
 use crate::scene::{Hit, RenderScene};
 
-/// A path whose ray has just found a diffuse surface at `hit` (see
-/// [`PathState::shades_in_wave`]), with what shading it touches.
-pub struct DiffuseVertex<'a> {
-    pub path: &'a mut PathState,
-    pub sampler: &'a mut PathSampler,
-    pub counters: &'a mut Counters,
-    pub hit: Hit,
-}
-
 impl PathState {
-    /// Whether [`advance_diffuse`] can take the vertex at `hit`: a plain diffuse
+    /// Whether a [`DiffuseWave`] can take the vertex at `hit`: a plain diffuse
     /// surface (untextured colour, no emission) the path does not end on for its depth.
     #[inline(always)]
     pub fn shades_in_wave(&self, scene: &RenderScene, hit: &Hit) -> bool {
@@ -48,11 +39,14 @@ impl PathState {
     }
 }
 
-/// The vertices of a wave, gathered into lanes: lane `k` holds `vertices[k]`'s values,
-/// or zeros where there is none (whose results are never read).
+/// The diffuse vertices of a wave, gathered into lanes as their hits come in: lane
+/// `k` holds the values of the path in the wave's lane `k`, or zeros where it has no
+/// diffuse vertex (whose results are never read).
 #[derive(Default)]
-struct Gathered {
+pub struct DiffuseWave {
     active: M8,
+    /// The surface of each vertex, to blame for a non-finite value.
+    surface: [SurfaceId; WIDTH],
     point: V8,
     normal: V8,
     geometric_normal: V8,
@@ -71,50 +65,69 @@ struct Gathered {
     light_delta: M8,
 }
 
-/// Shades the vertices of `vertices` (each lane at most one) as
-/// [`PathState::advance`] would each alone.
-#[inline(always)]
-pub fn advance_diffuse(scene: &RenderScene, vertices: &mut [Option<DiffuseVertex>; WIDTH]) {
-    let g = gather(scene, vertices);
-    let lanes = shade(&g);
-    for (k, vertex) in vertices.iter_mut().enumerate() {
-        if let Some(v) = vertex {
-            finish(v, &lanes, k);
+impl DiffuseWave {
+    /// Takes `path`'s vertex at `hit` (see [`PathState::shades_in_wave`]) into lane
+    /// `k`, drawing from `sampler` what the vertex draws before roulette: the choice of
+    /// light, the light sample's place, the BSDF direction.
+    #[inline(always)]
+    pub fn add(&mut self, scene: &RenderScene, k: usize, path: &PathState, sampler: &mut PathSampler, hit: &Hit) {
+        let all = u32::MAX;
+        let record = &scene.bsdfs[hit.material as usize];
+        self.active.0[k] = all;
+        self.surface[k] = SurfaceId::of(hit);
+        self.point.set(k, hit.point);
+        self.normal.set(k, hit.normal);
+        self.geometric_normal.set(k, hit.geometric_normal);
+        self.dir.set(k, path.ray.dir);
+        self.color.set(k, record.color * hit.color);
+        self.two_sided.0[k] = if record.flags & TWO_SIDED != 0 { all } else { 0 };
+        self.throughput.set(k, path.throughput);
+        let choices = sampler.next_2d();
+        let u_light = sampler.next_2d();
+        self.u_dir[k] = sampler.next_2d();
+        if let Some((sample, p_select)) = light_sample(scene, hit.point, (choices.x, u_light)) {
+            self.has_light.0[k] = all;
+            self.light_wi.set(k, sample.wi);
+            self.light_distance.0[k] = sample.distance;
+            self.light_radiance.set(k, sample.radiance);
+            self.light_pdf.0[k] = p_select * sample.pdf;
+            self.light_delta.0[k] = if sample.delta { all } else { 0 };
+        }
+    }
+
+    /// Whether no lane holds a vertex.
+    #[inline(always)]
+    pub fn is_empty(&self) -> bool {
+        self.active == M8::default()
+    }
+
+    /// Whether lane `k` holds a vertex.
+    #[inline(always)]
+    pub fn has(&self, k: usize) -> bool {
+        self.active.get(k)
+    }
+
+    /// Shades every lane, then hands each path its results: what
+    /// [`PathState::advance`] does for each alone. `lanes` yields the wave's lanes in
+    /// order, each with its path or `None`.
+    #[inline(always)]
+    pub fn advance<'a>(&self, lanes: impl Iterator<Item = Option<LanePath<'a>>>) {
+        let shaded = shade(self);
+        for (k, lane) in lanes.enumerate().take(WIDTH) {
+            if self.has(k)
+                && let Some(lane) = lane
+            {
+                finish(lane, &shaded, self, k);
+            }
         }
     }
 }
 
-/// Each vertex's values, and the numbers its sampler draws before roulette: the
-/// choice of light, the light sample's place, the BSDF direction.
-#[inline(always)]
-fn gather(scene: &RenderScene, vertices: &mut [Option<DiffuseVertex>; WIDTH]) -> Gathered {
-    let mut g = Gathered::default();
-    let all = u32::MAX;
-    for (k, vertex) in vertices.iter_mut().enumerate() {
-        let Some(v) = vertex else { continue };
-        let (hit, path) = (&v.hit, &v.path);
-        let record = &scene.bsdfs[hit.material as usize];
-        g.active.0[k] = all;
-        g.point.set(k, hit.point);
-        g.normal.set(k, hit.normal);
-        g.geometric_normal.set(k, hit.geometric_normal);
-        g.dir.set(k, path.ray.dir);
-        g.color.set(k, record.color * hit.color);
-        g.two_sided.0[k] = if record.flags & TWO_SIDED != 0 { all } else { 0 };
-        g.throughput.set(k, path.throughput);
-        let choices = v.sampler.next_2d();
-        let u_light = v.sampler.next_2d();
-        g.u_dir[k] = v.sampler.next_2d();
-        if let Some((sample, p_select)) = light_sample(scene, hit.point, (choices.x, u_light)) {
-            g.has_light.0[k] = all;
-            g.light_wi.set(k, sample.wi);
-            g.light_distance.0[k] = sample.distance;
-            g.light_radiance.set(k, sample.radiance);
-            g.light_pdf.0[k] = p_select * sample.pdf;
-            g.light_delta.0[k] = if sample.delta { all } else { 0 };
-        }
-    }
-    g
+/// What a lane's path hands the wave to take its results.
+pub struct LanePath<'a> {
+    pub path: &'a mut PathState,
+    pub sampler: &'a mut PathSampler,
+    pub counters: &'a mut Counters,
 }
 
 /// What the lanes computed: the shadow ray and its light, the next ray and its
@@ -182,7 +195,7 @@ fn side_normal(ng: V8, w: V8) -> V8 {
 
 /// The lanes' part of [`PathState::advance`] for a diffuse vertex.
 #[inline(always)]
-fn shade(g: &Gathered) -> Shaded {
+fn shade(g: &DiffuseWave) -> Shaded {
     let (zero, one) = (F8::splat(0.0), F8::splat(1.0));
     let wo_world = -g.dir.normalize();
     let frame = Frame8::new(g.normal);
@@ -261,25 +274,25 @@ fn cosine_hemisphere(u: &[Vec2; WIDTH]) -> V8 {
 /// Lane `k`'s results written back to its path, and what stays per path: counting
 /// rays, blaming a non-finite throughput, roulette.
 #[inline(always)]
-fn finish(v: &mut DiffuseVertex, lanes: &Shaded, k: usize) {
-    let time = v.path.ray.time;
-    let path = &mut *v.path;
-    if lanes.has_shadow.get(k) {
-        v.counters.rays += 1;
+fn finish(lane: LanePath, shaded: &Shaded, wave: &DiffuseWave, k: usize) {
+    let path = lane.path;
+    let time = path.ray.time;
+    if shaded.has_shadow.get(k) {
+        lane.counters.rays += 1;
         path.shadow = Some(ShadowRay {
-            ray: Ray::new(lanes.shadow_origin.get(k), lanes.shadow_dir.get(k)).at_time(time),
-            t_max: lanes.shadow_t_max.0[k],
-            light: lanes.shadow_light.get(k),
-            from: SurfaceId::of(&v.hit),
+            ray: Ray::new(shaded.shadow_origin.get(k), shaded.shadow_dir.get(k)).at_time(time),
+            t_max: shaded.shadow_t_max.0[k],
+            light: shaded.shadow_light.get(k),
+            from: wave.surface[k],
         });
     }
     path.stage = Stage::Done;
-    if !lanes.goes_on.get(k) {
+    if !shaded.goes_on.get(k) {
         return;
     }
-    path.throughput = lanes.throughput.get(k);
-    path.ray = Ray::new(lanes.next_origin.get(k), lanes.next_dir.get(k)).at_time(time);
-    path.previous = Some(Bounce { point: v.hit.point, pdf: lanes.next_pdf.0[k], delta: false });
+    path.throughput = shaded.throughput.get(k);
+    path.ray = Ray::new(shaded.next_origin.get(k), shaded.next_dir.get(k)).at_time(time);
+    path.previous = Some(Bounce { point: wave.point.get(k), pdf: shaded.next_pdf.0[k], delta: false });
     path.depth += 1;
-    path.go_on_after_bounce(&v.hit, v.sampler, v.counters);
+    path.go_on_after_bounce(wave.surface[k], lane.sampler, lane.counters);
 }
