@@ -224,6 +224,7 @@ impl V8 {
         // Finite (r − r = 0 fails for ∞ and NaN) and positive. (Written as `is_finite`
         // or `< ∞`, LLVM turns the test into integer checks of each lane's bits, one
         // lane at a time.)
+        #[allow(clippy::eq_op)]
         let finite = (rcp - rcp).is_eq(F8::splat(0.0));
         let usable = rcp.is_gt(F8::splat(0.0)).and(finite);
         usable.select3(self.scale(rcp), V8::default())
