@@ -159,6 +159,13 @@ impl PathState {
         (self.stage == Stage::Tracing && self.shadow.is_none()).then_some(self.ray)
     }
 
+    /// The closest-hit ray the path traces once its pending shadow ray (if any) is
+    /// resolved, if it goes on: the two may be traced together.
+    #[inline(always)]
+    pub fn ray_after_shadow(&self) -> Option<Ray> {
+        (self.stage == Stage::Tracing).then_some(self.ray)
+    }
+
     /// The shadow ray the path waits on, if the last vertex took a light sample.
     #[inline(always)]
     pub fn shadow_ray(&self) -> Option<&ShadowRay> {

@@ -72,8 +72,11 @@ pub(super) fn path_tile_in_waves(
     let mut pixels = (y0..y1).flat_map(|py| (x0..x1).map(move |px| (px, py)));
     let mut lanes: [Option<Lane>; WAVE] = array::from_fn(|_| pixels.next().map(|p| Lane::start(scene, p)));
     loop {
-        let mut wave = RayWave::default();
-        let mut busy = false;
+        // Each lane's pending shadow ray and the closest-hit ray it traces next, in two
+        // waves traced together: a path's vertices then take one step each, and every
+        // lane of the extension wave has a vertex to shade.
+        let (mut shadows, mut rays) = (RayWave::default(), RayWave::default());
+        let (mut busy, mut any_shadow) = (false, false);
         for (k, slot) in lanes.iter_mut().enumerate() {
             // Finished samples go to the film; the lane starts its pixel's next sample,
             // or the tile's next pixel.
@@ -92,22 +95,29 @@ pub(super) fn path_tile_in_waves(
             let Some(lane) = slot else { continue };
             busy = true;
             if let Some(shadow) = lane.path.shadow_ray() {
-                wave.set(k, &shadow.ray, shadow.t_max, true);
-            } else if let Some(ray) = lane.path.next_ray() {
-                wave.set(k, &ray, f32::INFINITY, false);
+                shadows.set(k, &shadow.ray, shadow.t_max, true);
+                any_shadow = true;
+            }
+            if let Some(ray) = lane.path.ray_after_shadow() {
+                rays.set(k, &ray, f32::INFINITY, false);
             }
         }
         if !busy {
             return;
         }
-        let hits = few.trace(&wave);
+        let blocked = any_shadow.then(|| few.trace(&shadows));
+        let hits = few.trace(&rays);
         // Vertices on plain diffuse surfaces are shaded together, the others each alone.
         let mut diffuse = DiffuseWave::default();
         for (k, slot) in lanes.iter_mut().enumerate() {
             let Some(lane) = slot else { continue };
-            if wave.shadow[k] != 0 {
-                lane.path.resolve_shadow(hits.object[k] != NO_OBJECT, &mut lane.counters);
-            } else if let Some(ray) = lane.path.next_ray() {
+            // The shadow ray first: the path adds its light before the next vertex's.
+            if let Some(blocked) = &blocked
+                && shadows.shadow[k] != 0
+            {
+                lane.path.resolve_shadow(blocked.object[k] != NO_OBJECT, &mut lane.counters);
+            }
+            if let Some(ray) = lane.path.next_ray() {
                 let hit = scene.few_objects_hit(&ray, &hits, k);
                 let wants_aov = lane.at_camera && scene.settings.aovs;
                 lane.at_camera = false;
