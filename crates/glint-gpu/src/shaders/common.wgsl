@@ -132,7 +132,7 @@ fn sobol_y_reversed(index: u32) -> u32 {
     return reverseBits(y);
 }
 
-const SOBOL_DIMENSIONS: u32 = 10u;
+const SOBOL_DIMENSIONS: u32 = 8u;
 
 struct PathSampler {
     sobol: bool,
