@@ -13,8 +13,8 @@ use std::array;
 
 use super::{TileFilm, Traced, path_camera_ray, pixel_stream};
 use crate::film::Aov;
-use crate::integrator::Counters;
 use crate::integrator::path::{DiffuseWave, LanePath, PathState};
+use crate::integrator::{Counters, SurfaceId};
 use crate::sampling::{PathSampler, PixelStream};
 use crate::scene::{FewObjects, NO_OBJECT, RayWave, RenderScene, WAVE};
 
@@ -105,7 +105,7 @@ pub(super) fn path_tile_in_waves(
         if !busy {
             return;
         }
-        let blocked = any_shadow.then(|| few.trace(&shadows));
+        let blocked = any_shadow.then(|| few.blocked(&shadows));
         let hits = few.trace(&rays);
         // Vertices on plain diffuse surfaces are shaded together, the others each alone.
         let mut diffuse = DiffuseWave::default();
@@ -115,17 +115,22 @@ pub(super) fn path_tile_in_waves(
             if let Some(blocked) = &blocked
                 && shadows.shadow[k] != 0
             {
-                lane.path.resolve_shadow(blocked.object[k] != NO_OBJECT, &mut lane.counters);
+                lane.path.resolve_shadow(blocked[k] != 0, &mut lane.counters);
             }
             if let Some(ray) = lane.path.next_ray() {
-                let hit = scene.few_objects_hit(&ray, &hits, k);
                 let wants_aov = lane.at_camera && scene.settings.aovs;
                 lane.at_camera = false;
-                match hit {
-                    Some(hit) if !wants_aov && lane.path.shades_in_wave(scene, &hit) => {
-                        diffuse.add(scene, k, &lane.path, &mut lane.sampler, &hit);
+                let object = hits.object[k];
+                // (Few objects are analytic: the instance's material is the surface's.)
+                let material = (object != NO_OBJECT).then(|| scene.instances[object as usize].material);
+                match material {
+                    Some(material) if !wants_aov && lane.path.shades_in_wave(scene, material) => {
+                        let (point, normal) = scene.few_objects_surface(&ray, &hits, k);
+                        let surface = SurfaceId { instance: object, material };
+                        diffuse.add(scene, k, &lane.path, &mut lane.sampler, (surface, point, normal));
                     }
                     _ => {
+                        let hit = scene.few_objects_hit(&ray, &hits, k);
                         let aov = wants_aov.then_some(&mut lane.aov);
                         lane.path.advance(scene, hit, &mut lane.sampler, &mut lane.counters, aov);
                     }

@@ -15,7 +15,8 @@
 
 use super::{Hit, Instance, NO_MOTION, RenderScene};
 use crate::math::Ray;
-use crate::shape::{ShapeHit, ShapeKind};
+use crate::shape::{Cube, Disk, Plane, Primitive, Rectangle, ShapeHit, ShapeKind, Sphere};
+use glam::Vec3;
 
 /// Rays traced side by side.
 pub const WAVE: usize = 8;
@@ -150,6 +151,40 @@ impl FewObjects {
     }
 }
 
+impl FewObjects {
+    /// All ones in the lanes whose segment `0 < t < t_max` some object that casts
+    /// shadows crosses: what [`FewObjects::trace`] tells of a wave of shadow rays, without
+    /// finding the nearest hit (no narrowing of the segments, no bookkeeping of which
+    /// object and part).
+    #[inline(always)]
+    pub fn blocked(&self, rays: &RayWave) -> [u32; WAVE] {
+        let mut blocked = [0; WAVE];
+        block_each(self.group(0), rays, &mut blocked, rectangle);
+        block_each(self.group(1), rays, &mut blocked, disk);
+        block_each(self.group(2), rays, &mut blocked, plane);
+        block_each(self.group(3), rays, &mut blocked, sphere);
+        block_each(self.group(4), rays, &mut blocked, |local, t_max| cube(local, t_max).0);
+        blocked
+    }
+}
+
+/// Marks in `blocked` the lanes whose segments an object of `objects` (all of one
+/// kind, whose lane test is `test`) that casts shadows crosses.
+#[inline(always)]
+fn block_each(
+    objects: &[LaneObject],
+    rays: &RayWave,
+    blocked: &mut [u32; WAVE],
+    test: impl Fn(&LocalWave, &Lanes) -> Lanes,
+) {
+    for object in objects.iter().filter(|o| o.casts_shadow) {
+        let t = test(&object.rays_in_object_space(rays), &rays.t_max);
+        for lane in 0..WAVE {
+            blocked[lane] |= 0u32.wrapping_sub(u32::from(t[lane] < f32::INFINITY));
+        }
+    }
+}
+
 /// Tests every object of `objects`, all of one kind, whose lane test is `test` (the
 /// hits' `t`, `f32::INFINITY` for none, and parts), keeping the closer hits.
 #[inline(always)]
@@ -179,6 +214,31 @@ impl RenderScene {
         let hit = ShapeHit { t: hits.t[lane], part: hits.part[lane] };
         // Only analytic instances are few objects.
         Some(self.hit_on_analytic(ray, &local, index, hit))
+    }
+}
+
+impl RenderScene {
+    /// The world-space point and unit normal of the hit [`FewObjects::trace`] found for
+    /// `ray`'s lane `lane` (which hit something): those [`RenderScene::few_objects_hit`]
+    /// gives, without the rest of a [`Hit`] (texture coordinates, the hit record) and
+    /// with each shape's formula inlined rather than reached through the shape
+    /// dispatch.
+    #[inline(always)]
+    pub fn few_objects_surface(&self, ray: &Ray, hits: &WaveHits, lane: usize) -> (Vec3, Vec3) {
+        let inst = &self.instances[hits.object[lane] as usize];
+        // Few objects do not move: the instance's own transform is the one at any time.
+        let xf = &inst.transform;
+        let local = xf.ray_to_object(ray);
+        let hit = ShapeHit { t: hits.t[lane], part: hits.part[lane] };
+        let surface = match inst.shape.kind {
+            ShapeKind::Rectangle => Rectangle.surface(&local, hit),
+            ShapeKind::Disk => Disk.surface(&local, hit),
+            ShapeKind::Plane => Plane.surface(&local, hit),
+            ShapeKind::Sphere => Sphere.surface(&local, hit),
+            ShapeKind::Cube => Cube.surface(&local, hit),
+            _ => inst.shape.surface_with(&self.shape_tables, &local, hit),
+        };
+        (xf.point_to_world(surface.point), xf.normal_to_world(surface.normal).normalize_or(Vec3::Y))
     }
 }
 

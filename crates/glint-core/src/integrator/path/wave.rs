@@ -13,7 +13,7 @@
 // Lane loops index several arrays by the same lane: written so, they vectorize.
 #![allow(clippy::needless_range_loop)]
 
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
 
 use super::{Bounce, PathState, ShadowRay, Stage, light_sample, power_heuristic};
@@ -23,14 +23,15 @@ use crate::material::NO_TEXTURE;
 use crate::math::wide::{F8, M8, V8, WIDTH};
 use crate::math::{Ray, offset_ray_origins};
 use crate::sampling::PathSampler;
-use crate::scene::{Hit, RenderScene};
+use crate::scene::RenderScene;
 
 impl PathState {
-    /// Whether a [`DiffuseWave`] can take the vertex at `hit`: a plain diffuse
-    /// surface (untextured colour, no emission) the path does not end on for its depth.
+    /// Whether a [`DiffuseWave`] can take the vertex where the path's ray met a surface
+    /// of `material`: plain diffuse (untextured colour, no emission), and not the
+    /// vertex the path ends on for its depth.
     #[inline(always)]
-    pub fn shades_in_wave(&self, scene: &RenderScene, hit: &Hit) -> bool {
-        let record = &scene.bsdfs[hit.material as usize];
+    pub fn shades_in_wave(&self, scene: &RenderScene, material: u32) -> bool {
+        let record = &scene.bsdfs[material as usize];
         record.kind == BsdfKind::Diffuse
             && record.color_texture == NO_TEXTURE
             && !record.is_emissive()
@@ -66,26 +67,36 @@ pub struct DiffuseWave {
 }
 
 impl DiffuseWave {
-    /// Takes `path`'s vertex at `hit` (see [`PathState::shades_in_wave`]) into lane
-    /// `k`, drawing from `sampler` what the vertex draws before roulette: the choice of
-    /// light, the light sample's place, the BSDF direction.
+    /// Takes into lane `k` `path`'s vertex on `surface` (see
+    /// [`PathState::shades_in_wave`]) at `point`, whose unit normal is `normal` (the
+    /// true and the shading normal: analytic surfaces), drawing from `sampler` what the
+    /// vertex draws before roulette: the choice of light, the light sample's place, the
+    /// BSDF direction.
     #[inline(always)]
-    pub fn add(&mut self, scene: &RenderScene, k: usize, path: &PathState, sampler: &mut PathSampler, hit: &Hit) {
+    pub fn add(
+        &mut self,
+        scene: &RenderScene,
+        k: usize,
+        path: &PathState,
+        sampler: &mut PathSampler,
+        (surface, point, normal): (SurfaceId, Vec3, Vec3),
+    ) {
         let all = u32::MAX;
-        let record = &scene.bsdfs[hit.material as usize];
+        let record = &scene.bsdfs[surface.material as usize];
         self.active.0[k] = all;
-        self.surface[k] = SurfaceId::of(hit);
-        self.point.set(k, hit.point);
-        self.normal.set(k, hit.normal);
-        self.geometric_normal.set(k, hit.geometric_normal);
+        self.surface[k] = surface;
+        self.point.set(k, point);
+        self.normal.set(k, normal);
+        self.geometric_normal.set(k, normal);
         self.dir.set(k, path.ray.dir);
-        self.color.set(k, record.color * hit.color);
+        // (The vertex colour of analytic surfaces is white: it would multiply by one.)
+        self.color.set(k, record.color);
         self.two_sided.0[k] = if record.flags & TWO_SIDED != 0 { all } else { 0 };
         self.throughput.set(k, path.throughput);
         let choices = sampler.next_2d();
         let u_light = sampler.next_2d();
         self.u_dir[k] = sampler.next_2d();
-        if let Some((sample, p_select)) = light_sample(scene, hit.point, (choices.x, u_light)) {
+        if let Some((sample, p_select)) = light_sample(scene, point, (choices.x, u_light)) {
             self.has_light.0[k] = all;
             self.light_wi.set(k, sample.wi);
             self.light_distance.0[k] = sample.distance;
