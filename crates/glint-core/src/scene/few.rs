@@ -490,6 +490,8 @@ mod tests {
                         } else {
                             assert_eq!((a.point, a.normal, a.part), (b.point, b.normal, b.part), "ray {ray:?}");
                         }
+                        // The lean surface diffuse lanes take is the whole hit's.
+                        assert_eq!(scene.few_objects_surface(ray, &hits, lane), (b.point, b.normal), "ray {ray:?}");
                     }
                     (a, b) => panic!("ray {ray:?}: single {a:?}, wave {b:?}"),
                 }
@@ -510,10 +512,11 @@ mod tests {
             for (lane, ray) in chunk.iter().enumerate() {
                 wave.set(lane, ray, 0.5 + lane as f32 * 0.2, true);
             }
-            let hits = few.trace(&wave);
+            let (hits, blocked_lanes) = (few.trace(&wave), few.blocked(&wave));
             for (lane, ray) in chunk.iter().enumerate() {
                 let blocked = hits.object[lane] != NO_OBJECT;
                 assert_eq!(blocked, scene.occluded(ray, wave.t_max[lane]), "ray {ray:?}");
+                assert_eq!(blocked, blocked_lanes[lane] != 0, "ray {ray:?}");
                 blocked_count += usize::from(blocked);
             }
         }
