@@ -164,6 +164,7 @@ impl Emitter {
     }
 
     /// Area emitters: the point for `u`, and the density of choosing it per unit area.
+    #[inline(always)]
     fn sample_area(&self, u: Vec2) -> (Vec3, f32) {
         match self.kind {
             EmitterKind::Triangle => {
