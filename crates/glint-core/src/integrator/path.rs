@@ -10,7 +10,7 @@
 
 mod wave;
 
-pub use wave::{DiffuseWave, LanePath};
+pub use wave::{DiffuseHit, DiffuseWave, LanePath};
 
 use glam::{Vec2, Vec3};
 
