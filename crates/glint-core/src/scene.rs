@@ -124,11 +124,6 @@ pub struct RenderScene {
     /// The instances as eight-ray lanes read them, when the scene is a handful of
     /// analytic objects: the path tracer then traces waves of rays through them.
     pub few_objects: Option<FewObjects>,
-    /// Whether the path tracer advances a tile's paths in waves of eight (see
-    /// `render/waves.rs`): for a handful of objects, and wherever some material is plain
-    /// diffuse, whose vertices a wave shades side by side. (The same image either way;
-    /// a test turns it off to compare.)
-    pub path_waves: bool,
 }
 
 /// The closest intersection, with world-space surface data.
@@ -295,10 +290,8 @@ pub fn compile(desc: &SceneDesc) -> Result<RenderScene, CompileError> {
         environment: lighting.environment,
         environment_emitter: lighting.environment_emitter,
         few_objects: None,
-        path_waves: false,
     };
     scene.few_objects = FewObjects::of(&scene);
-    scene.path_waves = scene.few_objects.is_some() || scene.bsdfs.iter().any(crate::bsdf::Bsdf::shades_in_lanes);
     Ok(scene)
 }
 

@@ -278,7 +278,7 @@ fn small_room() -> SceneDesc {
 fn paths_traced_in_waves_give_the_image_of_paths_traced_alone() {
     let scene = compile(&small_room()).unwrap();
     assert!(scene.few_objects.is_some(), "the room is a handful of analytic objects");
-    let alone = glint_core::scene::RenderScene { few_objects: None, path_waves: false, ..scene.clone() };
+    let alone = glint_core::scene::RenderScene { few_objects: None, ..scene.clone() };
     let image = |scene| render(scene, &|_, _| {}, &AtomicBool::new(false)).unwrap().0;
     let (waves, single) = (image(&scene), image(&alone));
     // The light reaches the whole room, so the images have something to compare.
@@ -290,31 +290,6 @@ fn paths_traced_in_waves_give_the_image_of_paths_traced_alone() {
     assert!(differing <= single.pixels.len() / 100, "{differing} of {} pixels differ", single.pixels.len());
     let (mean_waves, mean_single) = (mean(waves.pixels.iter().copied()), mean(single.pixels.iter().copied()));
     assert!((mean_waves - mean_single).abs().max_element() < 1e-3 * mean_single.max_element());
-}
-
-#[test]
-fn paths_in_waves_through_the_bvh_give_the_image_of_paths_traced_alone() {
-    // The room with a row of small diffuse spheres on its floor: too many objects for
-    // the wave's own tracing, so each lane's rays go through the BVH and only the
-    // shading of the diffuse vertices is shared.
-    let mut desc = small_room();
-    for i in 0..12 {
-        let x = -0.88 + 0.16 * i as f32;
-        let place = vec![TransformOp::Scale(Vec3::splat(0.07)), TransformOp::Translate(Vec3::new(x, -0.93, 0.6))];
-        desc.objects.push(node(ShapeDesc::Sphere, 0, place));
-    }
-    let scene = compile(&desc).unwrap();
-    assert!(scene.few_objects.is_none() && scene.path_waves, "BVH-traced waves");
-    let alone = glint_core::scene::RenderScene { path_waves: false, ..scene.clone() };
-    let image = |scene| render(scene, &|_, _| {}, &AtomicBool::new(false)).unwrap().0;
-    let (waves, single) = (image(&scene), image(&alone));
-    assert!(single.pixels.iter().all(|p| p.max_element() > 0.0));
-    // The same image, but for a sample exactly on a pixel border, which reaches both
-    // pixels and is added to the neighbour in another order.
-    let differing = waves.pixels.iter().zip(&single.pixels).filter(|(a, b)| a != b).count();
-    assert!(differing <= single.pixels.len() / 100, "{differing} of {} pixels differ", single.pixels.len());
-    let worst = waves.pixels.iter().zip(&single.pixels).map(|(a, b)| (*a - *b).abs().max_element()).fold(0.0, f32::max);
-    assert!(worst <= 1e-5 * mean(single.pixels.iter().copied()).max_element().max(1.0), "{worst}");
 }
 
 #[test]

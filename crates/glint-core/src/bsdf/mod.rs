@@ -214,13 +214,6 @@ impl Bsdf {
         self.emission.max_element() > 0.0
     }
 
-    /// Whether a wave of paths shades this surface's vertices side by side: plain
-    /// diffuse, its colour untextured, emitting nothing.
-    #[inline(always)]
-    pub fn shades_in_lanes(&self) -> bool {
-        self.kind == BsdfKind::Diffuse && self.color_texture == NO_TEXTURE && !self.is_emissive()
-    }
-
     /// The parameters at texture coordinates `uv`; `texture(index, uv)` samples the
     /// scene's textures. Inlined into the path loop, where an untextured surface then
     /// costs three compares.

@@ -10,7 +10,7 @@
 
 mod wave;
 
-pub use wave::{DiffuseHit, DiffuseWave, LanePath};
+pub use wave::{DiffuseWave, LanePath};
 
 use glam::{Vec2, Vec3};
 

@@ -325,8 +325,8 @@ fn path_tile_on(
     counters: &mut Counters,
 ) {
     let s = &scene.settings;
-    if scene.path_waves {
-        return waves::path_tile_in_waves(scene, scene.few_objects.as_ref(), (x0, y0, x1, y1), film, counters);
+    if let Some(few) = &scene.few_objects {
+        return waves::path_tile_in_waves(scene, few, (x0, y0, x1, y1), film, counters);
     }
     for py in y0..y1 {
         for px in x0..x1 {

@@ -1,23 +1,19 @@
-//! A path-traced tile as waves of eight paths.
+//! A path-traced tile as waves of eight paths, for scenes of a handful of analytic
+//! objects ([`FewObjects`]).
 //!
 //! Each of eight lanes owns one pixel at a time and traces its samples in order, one
-//! path after another. Every step takes the rays each lane's path waits on — its pending
-//! shadow ray and the closest-hit ray it traces next — and hands each path its answers,
-//! the shadow's first; the vertices found on plain diffuse surfaces are then shaded
-//! together in vector lanes ([`DiffuseWave`]), the others each by its own path. When the
-//! scene is a handful of analytic objects ([`FewObjects`]) the rays are traced side by
-//! side too, as two waves; otherwise each goes alone through the BVH. A path's value is
-//! what tracing it alone gives, and each pixel's samples reach the film in the same
-//! order, so the image is the one the one-path-at-a-time loop renders, bit for bit with
-//! the one-pixel box filter except where a sample falls exactly on a pixel border (it
-//! reaches both pixels, and the neighbour then adds it in another order; so do wider
-//! filters).
+//! path after another. Every step gathers the one ray each lane's path waits on — its
+//! next closest-hit ray or its shadow ray — into a wave, traces the wave with the rays
+//! side by side, and hands each path its answer. A path's value is what tracing it
+//! alone gives, and each pixel's samples reach the film in the same order, so the image
+//! is the one the one-path-at-a-time loop renders (bit for bit with the one-pixel box
+//! filter; wider filters add neighbouring pixels' samples in another order).
 
 use std::array;
 
 use super::{TileFilm, Traced, path_camera_ray, pixel_stream};
 use crate::film::Aov;
-use crate::integrator::path::{DiffuseHit, DiffuseWave, LanePath, PathState};
+use crate::integrator::path::{DiffuseWave, LanePath, PathState};
 use crate::integrator::{Counters, SurfaceId};
 use crate::sampling::{PathSampler, PixelStream};
 use crate::scene::{FewObjects, NO_OBJECT, RayWave, RenderScene, WAVE};
@@ -60,20 +56,11 @@ impl Lane {
     }
 }
 
-/// Where a lane's ray ended: a vertex the wave shades with the other diffuse ones, or
-/// one its path shades alone (`None`: the ray left the scene).
-enum Vertex {
-    Diffuse(DiffuseHit),
-    Alone(Option<crate::scene::Hit>),
-}
-
-/// Every sample of the tile `(x0, y0)`–`(x1, y1)`, traced in waves: through `few`'s
-/// lanes when the scene is a handful of objects, else each lane's rays alone through
-/// the BVH (the wave then shades its diffuse vertices together).
+/// Every sample of the tile `(x0, y0)`–`(x1, y1)`, traced in waves through `few`.
 #[inline(always)]
 pub(super) fn path_tile_in_waves(
     scene: &RenderScene,
-    few: Option<&FewObjects>,
+    few: &FewObjects,
     (x0, y0, x1, y1): (u32, u32, u32, u32),
     film: &mut TileFilm,
     counters: &mut Counters,
@@ -107,10 +94,6 @@ pub(super) fn path_tile_in_waves(
             }
             let Some(lane) = slot else { continue };
             busy = true;
-            if few.is_none() {
-                // Each lane traces its rays alone below.
-                continue;
-            }
             if let Some(shadow) = lane.path.shadow_ray() {
                 shadows.set(k, &shadow.ray, shadow.t_max, true);
                 any_shadow = true;
@@ -122,48 +105,35 @@ pub(super) fn path_tile_in_waves(
         if !busy {
             return;
         }
-        let blocked = few.filter(|_| any_shadow).map(|few| few.blocked(&shadows));
-        let hits = few.map(|few| few.trace(&rays));
+        let blocked = any_shadow.then(|| few.blocked(&shadows));
+        let hits = few.trace(&rays);
         // Vertices on plain diffuse surfaces are shaded together, the others each alone.
         let mut diffuse = DiffuseWave::default();
         for (k, slot) in lanes.iter_mut().enumerate() {
             let Some(lane) = slot else { continue };
             // The shadow ray first: the path adds its light before the next vertex's.
-            if let Some(shadow) = lane.path.shadow_ray() {
-                let blocked = match &blocked {
-                    Some(blocked) => blocked[k] != 0,
-                    None => scene.occluded(&shadow.ray, shadow.t_max),
-                };
-                lane.path.resolve_shadow(blocked, &mut lane.counters);
+            if let Some(blocked) = &blocked
+                && shadows.shadow[k] != 0
+            {
+                lane.path.resolve_shadow(blocked[k] != 0, &mut lane.counters);
             }
-            let Some(ray) = lane.path.next_ray() else { continue };
-            let wants_aov = lane.at_camera && scene.settings.aovs;
-            lane.at_camera = false;
-            let shades_in_wave = |material| !wants_aov && lane.path.shades_in_wave(scene, material);
-            let vertex = match &hits {
-                Some(hits) => {
-                    let object = hits.object[k];
-                    // (Few objects are analytic: the instance's material is the surface's.)
-                    let material = (object != NO_OBJECT).then(|| scene.instances[object as usize].material);
-                    match material {
-                        Some(material) if shades_in_wave(material) => {
-                            let (point, normal) = scene.few_objects_surface(&ray, hits, k);
-                            let surface = SurfaceId { instance: object, material };
-                            Vertex::Diffuse(DiffuseHit::analytic(surface, point, normal))
-                        }
-                        _ => Vertex::Alone(scene.few_objects_hit(&ray, hits, k)),
+            if let Some(ray) = lane.path.next_ray() {
+                let wants_aov = lane.at_camera && scene.settings.aovs;
+                lane.at_camera = false;
+                let object = hits.object[k];
+                // (Few objects are analytic: the instance's material is the surface's.)
+                let material = (object != NO_OBJECT).then(|| scene.instances[object as usize].material);
+                match material {
+                    Some(material) if !wants_aov && lane.path.shades_in_wave(scene, material) => {
+                        let (point, normal) = scene.few_objects_surface(&ray, &hits, k);
+                        let surface = SurfaceId { instance: object, material };
+                        diffuse.add(scene, k, &lane.path, &mut lane.sampler, (surface, point, normal));
                     }
-                }
-                None => match scene.intersect(&ray, f32::INFINITY) {
-                    Some(hit) if shades_in_wave(hit.material) => Vertex::Diffuse(DiffuseHit::of(&hit)),
-                    hit => Vertex::Alone(hit),
-                },
-            };
-            match vertex {
-                Vertex::Diffuse(hit) => diffuse.add(scene, k, &lane.path, &mut lane.sampler, hit),
-                Vertex::Alone(hit) => {
-                    let aov = wants_aov.then_some(&mut lane.aov);
-                    lane.path.advance(scene, hit, &mut lane.sampler, &mut lane.counters, aov);
+                    _ => {
+                        let hit = scene.few_objects_hit(&ray, &hits, k);
+                        let aov = wants_aov.then_some(&mut lane.aov);
+                        lane.path.advance(scene, hit, &mut lane.sampler, &mut lane.counters, aov);
+                    }
                 }
             }
         }

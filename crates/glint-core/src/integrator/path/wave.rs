@@ -17,12 +17,13 @@ use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
 
 use super::{Bounce, PathState, ShadowRay, Stage, light_sample, power_heuristic};
-use crate::bsdf::{TWO_SIDED, lobes};
+use crate::bsdf::{BsdfKind, TWO_SIDED, lobes};
 use crate::integrator::{Counters, SurfaceId};
+use crate::material::NO_TEXTURE;
 use crate::math::wide::{F8, M8, V8, WIDTH};
 use crate::math::{Ray, offset_ray_origins};
 use crate::sampling::PathSampler;
-use crate::scene::{Hit, RenderScene};
+use crate::scene::RenderScene;
 
 impl PathState {
     /// Whether a [`DiffuseWave`] can take the vertex where the path's ray met a surface
@@ -30,41 +31,12 @@ impl PathState {
     /// vertex the path ends on for its depth.
     #[inline(always)]
     pub fn shades_in_wave(&self, scene: &RenderScene, material: u32) -> bool {
-        scene.bsdfs[material as usize].shades_in_lanes()
+        let record = &scene.bsdfs[material as usize];
+        record.kind == BsdfKind::Diffuse
+            && record.color_texture == NO_TEXTURE
+            && !record.is_emissive()
             && self.radiance.is_finite()
             && self.depth.saturating_add(1) < self.limits.max_depth
-    }
-}
-
-/// What a wave needs of a hit on a plain diffuse surface.
-#[derive(Clone, Copy, Debug)]
-pub struct DiffuseHit {
-    pub surface: SurfaceId,
-    pub point: Vec3,
-    /// The shading normal and the true surface's (the same on analytic surfaces).
-    pub normal: Vec3,
-    pub geometric_normal: Vec3,
-    /// The vertex colour, which multiplies the material's (white on analytic surfaces).
-    pub color: Vec3,
-}
-
-impl DiffuseHit {
-    /// The parts of `hit` a wave shades with.
-    #[inline(always)]
-    pub fn of(hit: &Hit) -> Self {
-        DiffuseHit {
-            surface: SurfaceId::of(hit),
-            point: hit.point,
-            normal: hit.normal,
-            geometric_normal: hit.geometric_normal,
-            color: hit.color,
-        }
-    }
-
-    /// A hit on an analytic surface at `point`, whose unit normal is `normal`.
-    #[inline(always)]
-    pub fn analytic(surface: SurfaceId, point: Vec3, normal: Vec3) -> Self {
-        DiffuseHit { surface, point, normal, geometric_normal: normal, color: Vec3::ONE }
     }
 }
 
@@ -95,21 +67,30 @@ pub struct DiffuseWave {
 }
 
 impl DiffuseWave {
-    /// Takes into lane `k` `path`'s vertex at `hit` (see [`PathState::shades_in_wave`]),
-    /// drawing from `sampler` what the vertex draws before roulette: the choice of
-    /// light, the light sample's place, the BSDF direction.
+    /// Takes into lane `k` `path`'s vertex on `surface` (see
+    /// [`PathState::shades_in_wave`]) at `point`, whose unit normal is `normal` (the
+    /// true and the shading normal: analytic surfaces), drawing from `sampler` what the
+    /// vertex draws before roulette: the choice of light, the light sample's place, the
+    /// BSDF direction.
     #[inline(always)]
-    pub fn add(&mut self, scene: &RenderScene, k: usize, path: &PathState, sampler: &mut PathSampler, hit: DiffuseHit) {
+    pub fn add(
+        &mut self,
+        scene: &RenderScene,
+        k: usize,
+        path: &PathState,
+        sampler: &mut PathSampler,
+        (surface, point, normal): (SurfaceId, Vec3, Vec3),
+    ) {
         let all = u32::MAX;
-        let record = &scene.bsdfs[hit.surface.material as usize];
-        let point = hit.point;
+        let record = &scene.bsdfs[surface.material as usize];
         self.active.0[k] = all;
-        self.surface[k] = hit.surface;
+        self.surface[k] = surface;
         self.point.set(k, point);
-        self.normal.set(k, hit.normal);
-        self.geometric_normal.set(k, hit.geometric_normal);
+        self.normal.set(k, normal);
+        self.geometric_normal.set(k, normal);
         self.dir.set(k, path.ray.dir);
-        self.color.set(k, record.color * hit.color);
+        // (The vertex colour of analytic surfaces is white: it would multiply by one.)
+        self.color.set(k, record.color);
         self.two_sided.0[k] = if record.flags & TWO_SIDED != 0 { all } else { 0 };
         self.throughput.set(k, path.throughput);
         let choices = sampler.next_2d();
