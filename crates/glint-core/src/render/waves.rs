@@ -2,12 +2,15 @@
 //! objects ([`FewObjects`]).
 //!
 //! Each of eight lanes owns one pixel at a time and traces its samples in order, one
-//! path after another. Every step gathers the one ray each lane's path waits on — its
-//! next closest-hit ray or its shadow ray — into a wave, traces the wave with the rays
-//! side by side, and hands each path its answer. A path's value is what tracing it
+//! path after another. Every step takes the rays each lane's path waits on — its pending
+//! shadow ray and the closest-hit ray it traces next — as two waves, traces each with
+//! the rays side by side, and hands each path its answers, the shadow's first; the
+//! vertices found on plain diffuse surfaces are then shaded together in vector lanes
+//! ([`DiffuseWave`]), the others each by its own path. A path's value is what tracing it
 //! alone gives, and each pixel's samples reach the film in the same order, so the image
-//! is the one the one-path-at-a-time loop renders (bit for bit with the one-pixel box
-//! filter; wider filters add neighbouring pixels' samples in another order).
+//! is the one the one-path-at-a-time loop renders: bit for bit with the one-pixel box
+//! filter, but for a sample exactly on a pixel border (it reaches both pixels, and the
+//! neighbour adds it in another order, as wider filters add their samples).
 
 use std::array;
 
