@@ -78,6 +78,15 @@ impl F8 {
         self.zip(other, f32::max)
     }
 
+    /// Set where the lane is finite: `x − x = 0` fails for ∞ and NaN. (Written as
+    /// `f32::is_finite` or `< ∞`, LLVM turns the test into integer checks of each
+    /// lane's bits, one lane at a time.)
+    #[inline(always)]
+    pub fn is_finite(self) -> M8 {
+        #[allow(clippy::eq_op)]
+        (self - self).is_eq(F8::splat(0.0))
+    }
+
     #[inline(always)]
     pub fn is_lt(self, other: F8) -> M8 {
         self.test(other, |a, b| a < b)
@@ -221,20 +230,8 @@ impl V8 {
     #[inline(always)]
     pub fn normalize_or_zero(self) -> V8 {
         let rcp = F8::splat(1.0) / self.dot(self).sqrt();
-        // Finite (r − r = 0 fails for ∞ and NaN) and positive. (Written as `is_finite`
-        // or `< ∞`, LLVM turns the test into integer checks of each lane's bits, one
-        // lane at a time.)
-        #[allow(clippy::eq_op)]
-        let finite = (rcp - rcp).is_eq(F8::splat(0.0));
-        let usable = rcp.is_gt(F8::splat(0.0)).and(finite);
+        let usable = rcp.is_gt(F8::splat(0.0)).and(rcp.is_finite());
         usable.select3(self.scale(rcp), V8::default())
-    }
-
-    /// Set where all three components are finite.
-    #[inline(always)]
-    pub fn is_finite(self) -> M8 {
-        let finite = |v: F8| v.test(v, |a, _| a.is_finite());
-        finite(self.x).and(finite(self.y)).and(finite(self.z))
     }
 }
 
@@ -291,6 +288,15 @@ mod tests {
         }
         let zero = V8::default().normalize_or_zero();
         assert_eq!(zero, V8::default());
+    }
+
+    #[test]
+    fn finite_lanes_are_those_f32_calls_finite() {
+        let v = F8([0.0, -0.0, 1e38, f32::MAX, f32::INFINITY, f32::NEG_INFINITY, f32::NAN, f32::MIN_POSITIVE / 4.0]);
+        let finite = v.is_finite();
+        for k in 0..WIDTH {
+            assert_eq!(finite.get(k), v.0[k].is_finite(), "{}", v.0[k]);
+        }
     }
 
     #[test]

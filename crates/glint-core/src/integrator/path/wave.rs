@@ -227,7 +227,7 @@ fn shade(g: &DiffuseWave) -> Shaded {
     let has_shadow = g.active.and(g.has_light).and(agrees).and_not(black);
     let shadow_origin = offset_ray_origins(g.point, side_normal(ng, g.light_wi));
     let distance = g.light_distance;
-    let finite = distance.test(distance, |d, _| d.is_finite());
+    let finite = distance.is_finite();
     let shadow_t_max = finite.select(distance * F8::splat(1.0 - 1e-4), F8::splat(f32::INFINITY));
     let z = wi.z * side;
     let bsdf_pdf = lit.select(z.max(zero) * F8::splat(FRAC_1_PI), zero);
