@@ -49,8 +49,8 @@ pub struct DiffuseWave {
     /// The surface of each vertex, to blame for a non-finite value.
     surface: [SurfaceId; WIDTH],
     point: V8,
+    /// The unit normal: the true surface's and the shading one (analytic surfaces).
     normal: V8,
-    geometric_normal: V8,
     dir: V8,
     color: V8,
     two_sided: M8,
@@ -87,7 +87,6 @@ impl DiffuseWave {
         self.surface[k] = surface;
         self.point.set(k, point);
         self.normal.set(k, normal);
-        self.geometric_normal.set(k, normal);
         self.dir.set(k, path.ray.dir);
         // (The vertex colour of analytic surfaces is white: it would multiply by one.)
         self.color.set(k, record.color);
@@ -211,7 +210,8 @@ fn shade(g: &DiffuseWave) -> Shaded {
     let wo_world = -g.dir.normalize();
     let frame = Frame8::new(g.normal);
     let wo = frame.to_local(wo_world);
-    let ng = g.geometric_normal;
+    // The true surface's normal, for the sides of rays (the shading normal here).
+    let ng = g.normal;
     // The side the surface reflects on: the front, or the back of a two-sided one.
     let front = wo.z.is_gt(zero);
     let reflects = front.or(wo.z.is_lt(zero).and(g.two_sided));
