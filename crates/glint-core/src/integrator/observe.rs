@@ -18,6 +18,16 @@ pub enum RayKind {
     TotalInternalReflection,
 }
 
+impl RayKind {
+    /// The term of the lighting equation a secondary ray of this kind brings back.
+    pub fn term_formula(self) -> &'static str {
+        match self {
+            RayKind::Reflected => "reflected k_s·O_r·I_r",
+            _ => "transmitted k_t·O_t·I_t",
+        }
+    }
+}
+
 /// What the integrator tells as it traces. Calls nest: `ray` opens a ray's record,
 /// the terms and shadow rays of its hit follow (and the rays it spawns, each opened and
 /// closed in turn), and `done` closes it with the colour it returns.

@@ -12,6 +12,7 @@ use glam::Vec2;
 
 use super::TraceContext;
 use super::observe::{NoObserver, Observer, RayKind};
+
 use crate::material::{Material, NO_TEXTURE};
 use crate::math::{Ray, offset_ray_origin};
 use crate::scene::{Hit, RenderScene};
@@ -103,29 +104,69 @@ fn shade_with<O: Observer>(
         observer.done(background);
         return background;
     };
+    let mut color = shade_vertex(scene, ray, &hit, ctx, &mut TracedNow, observer);
+    for_each_secondary(scene, ray, &hit, depth, weight, |r, kind, k, weight| {
+        let hit = scene.intersect(&r, f32::INFINITY);
+        let term = k * again(scene, (&r, kind), hit, depth + 1, weight, ctx, observer);
+        observer.term(kind.term_formula(), term);
+        color += term;
+    });
+    observer.done(color);
+    blamed_if_non_finite(color, &hit, ctx)
+}
+
+/// The local part of the lighting equation at `hit` (ambient and every light) for a
+/// ray `ray` that found it, its shadow rays handled by `shadows`.
+#[inline(always)]
+pub fn shade_vertex(
+    scene: &RenderScene,
+    ray: &Ray,
+    hit: &Hit,
+    ctx: &mut TraceContext,
+    shadows: &mut impl ShadowRays,
+    observer: &mut impl Observer,
+) -> Vec3 {
     let material = &scene.materials[hit.material as usize];
+    let (d, n, _) = facing(ray, hit);
+    direct_lighting(scene, hit, material, (n, -d), ray.time, ctx, shadows, observer)
+}
+
+/// The unit direction of `ray`, and `hit`'s shading and true normals turned to face it:
+/// the side the ray arrived on is the side shaded. The true surface decides the side
+/// and carries the ray offsets; an interpolated mesh normal may lean.
+#[inline(always)]
+fn facing(ray: &Ray, hit: &Hit) -> (Vec3, Vec3, Vec3) {
     let d = ray.dir.normalize();
-    // Shade the side the ray arrived on: n faces the viewer. The true surface (ng)
-    // decides the side and carries the ray offsets; an interpolated mesh normal may lean.
     let entering = hit.geometric_normal.dot(d) < 0.0;
     let (n, ng) = if entering { (hit.normal, hit.geometric_normal) } else { (-hit.normal, -hit.geometric_normal) };
-    let mut color = direct_lighting(scene, &hit, material, (n, -d), ray.time, ctx, observer);
+    (d, n, ng)
+}
 
+/// Calls `spawn(ray, kind, k, weight)` for the reflected and transmitted rays of the
+/// ray `ray` that found `hit` at `depth` with `weight`, where they are worth tracing:
+/// each adds `k` times what it brings back, and carries `weight · k` on.
+#[inline(always)]
+pub fn for_each_secondary(
+    scene: &RenderScene,
+    ray: &Ray,
+    hit: &Hit,
+    depth: u32,
+    weight: Vec3,
+    mut spawn: impl FnMut(Ray, RayKind, Vec3, Vec3),
+) {
     if depth >= scene.settings.max_depth {
-        observer.done(color);
-        return blamed_if_non_finite(color, &hit, ctx);
+        return;
     }
+    let material = &scene.materials[hit.material as usize];
+    let (d, n, ng) = facing(ray, hit);
+    let entering = hit.geometric_normal.dot(d) < 0.0;
     let worth_tracing = |w: Vec3| w.max_element() > scene.settings.min_contribution;
     let reflected_dir = reflect(d, n);
     let features = scene.settings.features;
     let reflect_weight = weight * material.reflective;
     if features.reflections && worth_tracing(reflect_weight) {
         let r = Ray::new(offset_ray_origin(hit.point, ng), reflected_dir).at_time(ray.time);
-        let hit = scene.intersect(&r, f32::INFINITY);
-        let term =
-            material.reflective * again(scene, (&r, RayKind::Reflected), hit, depth + 1, reflect_weight, ctx, observer);
-        observer.term("reflected k_s·O_r·I_r", term);
-        color += term;
+        spawn(r, RayKind::Reflected, material.reflective, reflect_weight);
     }
     let transmit_weight = weight * material.transmissive;
     if features.refractions && worth_tracing(transmit_weight) {
@@ -139,13 +180,40 @@ fn shade_with<O: Observer>(
                 RayKind::TotalInternalReflection,
             ),
         };
-        let hit = scene.intersect(&r, f32::INFINITY);
-        let term = material.transmissive * again(scene, (&r, kind), hit, depth + 1, transmit_weight, ctx, observer);
-        observer.term("transmitted k_t·O_t·I_t", term);
-        color += term;
+        spawn(r, kind, material.transmissive, transmit_weight);
     }
-    observer.done(color);
-    blamed_if_non_finite(color, &hit, ctx)
+}
+
+/// How direct lighting learns what reaches a light: a shadow ray traced at once, or
+/// put aside to be traced with others (a wave of rays) and its light added then.
+pub trait ShadowRays {
+    /// The filter (`k_t·O_t` of what the segment `0 < t < t_max` of `ray` crosses, zero
+    /// if it is blocked), or `None` if the ray is put aside: [`ShadowRays::defer`]
+    /// then takes the light it would add unshadowed.
+    fn filter(&mut self, scene: &RenderScene, ray: &Ray, t_max: f32) -> Option<Vec3>;
+
+    /// Keeps `light`, what the shadow ray last put aside adds times its filter.
+    fn defer(&mut self, ray: &Ray, t_max: f32, light: Vec3);
+}
+
+/// Shadow rays traced as they come, one by one.
+pub struct TracedNow;
+
+impl ShadowRays for TracedNow {
+    #[inline(always)]
+    fn filter(&mut self, scene: &RenderScene, ray: &Ray, t_max: f32) -> Option<Vec3> {
+        Some(if scene.settings.features.transparent_shadows {
+            scene.transmittance(ray, t_max)
+        } else if scene.occluded(ray, t_max) {
+            Vec3::ZERO
+        } else {
+            Vec3::ONE
+        })
+    }
+
+    fn defer(&mut self, _: &Ray, _: f32, _: Vec3) {
+        unreachable!("shadow rays traced now are never put aside")
+    }
 }
 
 /// `color`, after noting `hit` as the culprit if it is not finite. Rays return from the
@@ -169,6 +237,7 @@ fn direct_lighting(
     (n, v): (Vec3, Vec3),
     time: f32,
     ctx: &mut TraceContext,
+    shadows: &mut impl ShadowRays,
     observer: &mut impl Observer,
 ) -> Vec3 {
     let features = scene.settings.features;
@@ -192,15 +261,14 @@ fn direct_lighting(
             if n_dot_l <= 0.0 || incidence.radiance == Vec3::ZERO {
                 continue;
             }
+            let highlight = || if m.specular == Vec3::ZERO { 0.0 } else { m.highlight(n, incidence.to_light, v) };
             let filter = if features.shadows {
                 ctx.counters.rays += 1;
                 let shadow_ray = Ray::new(shadow_origin, incidence.to_light).at_time(time);
-                let filter = if features.transparent_shadows {
-                    scene.transmittance(&shadow_ray, incidence.distance)
-                } else if scene.occluded(&shadow_ray, incidence.distance) {
-                    Vec3::ZERO
-                } else {
-                    Vec3::ONE
+                let Some(filter) = shadows.filter(scene, &shadow_ray, incidence.distance) else {
+                    let light = incidence.radiance * (diffuse * n_dot_l + m.specular * highlight());
+                    shadows.defer(&shadow_ray, incidence.distance, light);
+                    continue;
                 };
                 observer.shadow_ray(&shadow_ray, incidence.distance, filter);
                 filter
@@ -210,7 +278,7 @@ fn direct_lighting(
             if filter == Vec3::ZERO {
                 continue;
             }
-            let highlight = if m.specular == Vec3::ZERO { 0.0 } else { m.highlight(n, incidence.to_light, v) };
+            let highlight = highlight();
             let lit = filter * incidence.radiance;
             observer.light(light_index, lit * diffuse * n_dot_l, lit * m.specular * highlight, m.specular_formula());
             color += lit * (diffuse * n_dot_l + m.specular * highlight);

@@ -10,6 +10,7 @@ pub mod inspect;
 mod non_finite;
 mod parts;
 mod waves;
+mod whitted_waves;
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
@@ -268,6 +269,12 @@ fn adaptive_tile(
 /// neighbouring pixels of a row at once ([`RenderScene::intersect_packet`]); each is
 /// then shaded on its own.
 fn uniform_tile(scene: &RenderScene, tile: (u32, u32, u32, u32), film: &mut TileFilm, counters: &mut Counters) {
+    if let Some(few) = &scene.few_objects {
+        return crate::accel::lanes::on_avx2_or!(
+            |_avx| whitted_tile_in_waves_avx2(scene, few, tile, film, counters),
+            whitted_waves::whitted_tile_in_waves(scene, few, tile, film, counters)
+        );
+    }
     let (x0, y0, x1, y1) = tile;
     let s = &scene.settings;
     let count = s.spp as usize;
@@ -297,6 +304,20 @@ fn uniform_tile(scene: &RenderScene, tile: (u32, u32, u32, u32), film: &mut Tile
             }
         }
     }
+}
+
+/// [`whitted_waves::whitted_tile_in_waves`] compiled for AVX2, so the lanes of its
+/// waves fill AVX2 registers.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn whitted_tile_in_waves_avx2(
+    scene: &RenderScene,
+    few: &crate::scene::FewObjects,
+    tile: (u32, u32, u32, u32),
+    film: &mut TileFilm,
+    counters: &mut Counters,
+) {
+    whitted_waves::whitted_tile_in_waves(scene, few, tile, film, counters)
 }
 
 /// Every sample of every pixel of the tile, path-traced one at a time, splatted in

@@ -15,7 +15,7 @@
 
 use super::{Hit, Instance, NO_MOTION, RenderScene};
 use crate::math::Ray;
-use crate::shape::{Cube, Disk, Plane, Primitive, Rectangle, ShapeHit, ShapeKind, Sphere};
+use crate::shape::{Cone, Cube, Cylinder, Disk, Plane, Primitive, Rectangle, ShapeHit, ShapeKind, Sphere};
 use glam::Vec3;
 
 /// Rays traced side by side.
@@ -96,8 +96,15 @@ struct LaneObject {
 }
 
 /// The kinds the lanes test, in the order [`FewObjects`] keeps them.
-const LANE_KINDS: [ShapeKind; 5] =
-    [ShapeKind::Rectangle, ShapeKind::Disk, ShapeKind::Plane, ShapeKind::Sphere, ShapeKind::Cube];
+const LANE_KINDS: [ShapeKind; 7] = [
+    ShapeKind::Rectangle,
+    ShapeKind::Disk,
+    ShapeKind::Plane,
+    ShapeKind::Sphere,
+    ShapeKind::Cube,
+    ShapeKind::Cylinder,
+    ShapeKind::Cone,
+];
 
 /// The scene's objects, when there are few enough of kinds the lanes know, for
 /// tracing waves of rays by testing each object once.
@@ -141,12 +148,13 @@ impl FewObjects {
     #[inline(always)]
     pub fn trace(&self, rays: &RayWave) -> WaveHits {
         let mut hits = WaveHits { t: rays.t_max, object: [NO_OBJECT; WAVE], part: [0; WAVE] };
-        let no_parts = [0; WAVE];
-        test_each(self.group(0), rays, &mut hits, |local, t_max| (rectangle(local, t_max), no_parts));
-        test_each(self.group(1), rays, &mut hits, |local, t_max| (disk(local, t_max), no_parts));
-        test_each(self.group(2), rays, &mut hits, |local, t_max| (plane(local, t_max), no_parts));
-        test_each(self.group(3), rays, &mut hits, |local, t_max| (sphere(local, t_max), no_parts));
-        test_each(self.group(4), rays, &mut hits, cube);
+        test_each::<Rectangle>(self.group(0), rays, &mut hits);
+        test_each::<Disk>(self.group(1), rays, &mut hits);
+        test_each::<Plane>(self.group(2), rays, &mut hits);
+        test_each::<Sphere>(self.group(3), rays, &mut hits);
+        test_each::<Cube>(self.group(4), rays, &mut hits);
+        test_each::<Cylinder>(self.group(5), rays, &mut hits);
+        test_each::<Cone>(self.group(6), rays, &mut hits);
         hits
     }
 }
@@ -159,44 +167,35 @@ impl FewObjects {
     #[inline(always)]
     pub fn blocked(&self, rays: &RayWave) -> [u32; WAVE] {
         let mut blocked = [0; WAVE];
-        block_each(self.group(0), rays, &mut blocked, rectangle);
-        block_each(self.group(1), rays, &mut blocked, disk);
-        block_each(self.group(2), rays, &mut blocked, plane);
-        block_each(self.group(3), rays, &mut blocked, sphere);
-        block_each(self.group(4), rays, &mut blocked, |local, t_max| cube(local, t_max).0);
+        block_each::<Rectangle>(self.group(0), rays, &mut blocked);
+        block_each::<Disk>(self.group(1), rays, &mut blocked);
+        block_each::<Plane>(self.group(2), rays, &mut blocked);
+        block_each::<Sphere>(self.group(3), rays, &mut blocked);
+        block_each::<Cube>(self.group(4), rays, &mut blocked);
+        block_each::<Cylinder>(self.group(5), rays, &mut blocked);
+        block_each::<Cone>(self.group(6), rays, &mut blocked);
         blocked
     }
 }
 
 /// Marks in `blocked` the lanes whose segments an object of `objects` (all of one
-/// kind, whose lane test is `test`) that casts shadows crosses.
+/// kind, `S`) that casts shadows crosses.
 #[inline(always)]
-fn block_each(
-    objects: &[LaneObject],
-    rays: &RayWave,
-    blocked: &mut [u32; WAVE],
-    test: impl Fn(&LocalWave, &Lanes) -> Lanes,
-) {
+fn block_each<S: LaneTest>(objects: &[LaneObject], rays: &RayWave, blocked: &mut [u32; WAVE]) {
     for object in objects.iter().filter(|o| o.casts_shadow) {
-        let t = test(&object.rays_in_object_space(rays), &rays.t_max);
+        let (t, _) = S::lanes(&object.rays_in_object_space(rays), &rays.t_max);
         for lane in 0..WAVE {
             blocked[lane] |= 0u32.wrapping_sub(u32::from(t[lane] < f32::INFINITY));
         }
     }
 }
 
-/// Tests every object of `objects`, all of one kind, whose lane test is `test` (the
-/// hits' `t`, `f32::INFINITY` for none, and parts), keeping the closer hits.
+/// Tests every object of `objects`, all of kind `S`, keeping the closer hits.
 #[inline(always)]
-fn test_each(
-    objects: &[LaneObject],
-    rays: &RayWave,
-    hits: &mut WaveHits,
-    test: impl Fn(&LocalWave, &Lanes) -> (Lanes, [u32; WAVE]),
-) {
+fn test_each<S: LaneTest>(objects: &[LaneObject], rays: &RayWave, hits: &mut WaveHits) {
     for object in objects {
         let t_max = object.t_max_for(rays, hits);
-        let (t, part) = test(&object.rays_in_object_space(rays), &t_max);
+        let (t, part) = S::lanes(&object.rays_in_object_space(rays), &t_max);
         hits.keep_closer(&t, &part, object.index);
     }
 }
@@ -236,6 +235,8 @@ impl RenderScene {
             ShapeKind::Plane => Plane.surface(&local, hit),
             ShapeKind::Sphere => Sphere.surface(&local, hit),
             ShapeKind::Cube => Cube.surface(&local, hit),
+            ShapeKind::Cylinder => Cylinder.surface(&local, hit),
+            ShapeKind::Cone => Cone.surface(&local, hit),
             _ => inst.shape.surface_with(&self.shape_tables, &local, hit),
         };
         (xf.point_to_world(surface.point), xf.normal_to_world(surface.normal).normalize_or(Vec3::Y))
@@ -279,16 +280,54 @@ impl LaneObject {
     fn rays_in_object_space(&self, rays: &RayWave) -> LocalWave {
         let [x, y, z, w] = self.columns;
         let mut local = LocalWave { origin: [[0.0; WAVE]; 3], dir: [[0.0; WAVE]; 3] };
-        for row in 0..3 {
-            for lane in 0..WAVE {
-                let (o, d) = (&rays.origin, &rays.dir);
-                local.origin[row][lane] = ((x[row] * o[0][lane] + y[row] * o[1][lane]) + z[row] * o[2][lane]) + w[row];
-                local.dir[row][lane] = (x[row] * d[0][lane] + y[row] * d[1][lane]) + z[row] * d[2][lane];
+        let ([ox, oy, oz], [dx, dy, dz]) = (&rays.origin, &rays.dir);
+        // One loop over the lanes computing all six rows: written as a loop over rows
+        // around one over lanes, LLVM unrolled both and left every lane scalar.
+        for lane in 0..WAVE {
+            let (o, d) = ((ox[lane], oy[lane], oz[lane]), (dx[lane], dy[lane], dz[lane]));
+            for row in 0..3 {
+                local.origin[row][lane] = ((x[row] * o.0 + y[row] * o.1) + z[row] * o.2) + w[row];
+                local.dir[row][lane] = (x[row] * d.0 + y[row] * d.1) + z[row] * d.2;
             }
         }
         local
     }
 }
+
+/// A shape's test in lanes. A trait rather than closures, so every test is inlined
+/// into the wave's code, and compiled for AVX2 with it: passed as closures, the larger
+/// tests were called instead, compiled without AVX2.
+trait LaneTest {
+    /// The lanes' hits in `0 < t < t_max` (`f32::INFINITY` where a ray misses) and the
+    /// parts hit.
+    fn lanes(ray: &LocalWave, t_max: &Lanes) -> (Lanes, [u32; WAVE]);
+}
+
+/// Implements [`LaneTest`] for shapes of one part by their lane function.
+macro_rules! one_part_lane_test {
+    ($($shape:ty => $test:ident),*) => {$(
+        impl LaneTest for $shape {
+            #[inline(always)]
+            fn lanes(ray: &LocalWave, t_max: &Lanes) -> (Lanes, [u32; WAVE]) {
+                ($test(ray, t_max), [0; WAVE])
+            }
+        }
+    )*};
+}
+one_part_lane_test!(Rectangle => rectangle, Disk => disk, Plane => plane, Sphere => sphere);
+
+/// Implements [`LaneTest`] for shapes of several parts by their lane function.
+macro_rules! parts_lane_test {
+    ($($shape:ty => $test:ident),*) => {$(
+        impl LaneTest for $shape {
+            #[inline(always)]
+            fn lanes(ray: &LocalWave, t_max: &Lanes) -> (Lanes, [u32; WAVE]) {
+                $test(ray, t_max)
+            }
+        }
+    )*};
+}
+parts_lane_test!(Cube => cube, Cylinder => cylinder, Cone => cone);
 
 /// The hits of the lanes on the plane `y = 0` of object space where `inside(x, z)`
 /// holds of the point met: the test of [`crate::shape::Rectangle`],
@@ -369,6 +408,105 @@ fn cube(ray: &LocalWave, t_max: &Lanes) -> (Lanes, [u32; WAVE]) {
     out
 }
 
+/// The nearer of a lane's hit so far (`best`, its part `best_part`) and a candidate
+/// `t` on part `part` that counts where `valid`, as the scalar tests' `consider` keeps it:
+/// ahead of the ray and nearer than `best` (which starts at the ray's `t_max`).
+#[inline(always)]
+fn consider(best: &mut f32, best_part: &mut u32, valid: bool, t: f32, part: u32) {
+    let closer = valid & (t > 0.0) & (t < *best);
+    *best = if closer { t } else { *best };
+    *best_part = if closer { part } else { *best_part };
+}
+
+/// The first of two roots, in order, ahead of the ray, before `t_max` and accepted:
+/// [`crate::shape`]'s `nearest_root` in lanes, `f32::INFINITY` for none.
+#[inline(always)]
+fn nearest_root(roots: [f32; 2], t_max: f32, accept: impl Fn(f32) -> bool) -> f32 {
+    let counts = |t: f32| (t > 0.0) & (t < t_max) & accept(t);
+    if counts(roots[0]) {
+        roots[0]
+    } else if counts(roots[1]) {
+        roots[1]
+    } else {
+        f32::INFINITY
+    }
+}
+
+/// [`crate::shape::Cylinder`]'s test in lanes: the body (part 0), then the caps at
+/// `y = 1` (part 1) and `y = −1` (part 2), the nearest kept.
+#[inline(always)]
+fn cylinder(ray: &LocalWave, t_max: &Lanes) -> (Lanes, [u32; WAVE]) {
+    let ([ox, oy, oz], [dx, dy, dz]) = (&ray.origin, &ray.dir);
+    let mut out = ([0.0; WAVE], [0; WAVE]);
+    for lane in 0..WAVE {
+        let (o, d) = ((ox[lane], oy[lane], oz[lane]), (dx[lane], dy[lane], dz[lane]));
+        let (mut best, mut part) = (t_max[lane], 0);
+        let a = d.0 * d.0 + d.2 * d.2;
+        let t0 = -(o.0 * d.0 + o.2 * d.2) / a;
+        let (cx, cz) = (o.0 + t0 * d.0, o.2 + t0 * d.2);
+        let discriminant = 1.0 - (cx * cx + cz * cz);
+        let h = (discriminant / a).sqrt();
+        let body = nearest_root([t0 - h, t0 + h], t_max[lane], |t| (o.1 + t * d.1).abs() <= 1.0);
+        consider(&mut best, &mut part, (a > 0.0) & (discriminant >= 0.0) & (body < f32::INFINITY), body, 0);
+        for (y, cap) in [(1.0, 1), (-1.0, 2)] {
+            let t = (y - o.1) / d.1;
+            let (x, z) = (o.0 + t * d.0, o.2 + t * d.2);
+            consider(&mut best, &mut part, (d.1 != 0.0) & (x * x + z * z <= 1.0), t, cap);
+        }
+        let hit = best < t_max[lane];
+        out.0[lane] = if hit { best } else { f32::INFINITY };
+        out.1[lane] = part;
+    }
+    out
+}
+
+/// [`crate::shape::Cone`]'s test in lanes: the lower nappe between base and apex (part 0),
+/// from the line's point nearest the origin, then the base at `y = −1` (part 2).
+#[inline(always)]
+fn cone(ray: &LocalWave, t_max: &Lanes) -> (Lanes, [u32; WAVE]) {
+    let ([ox, oy, oz], [dx, dy, dz]) = (&ray.origin, &ray.dir);
+    let mut out = ([0.0; WAVE], [0; WAVE]);
+    for lane in 0..WAVE {
+        let (o, d) = ((ox[lane], oy[lane], oz[lane]), (dx[lane], dy[lane], dz[lane]));
+        let (mut best, mut part) = (t_max[lane], 0);
+        let t0 = -((o.0 * d.0 + o.1 * d.1) + o.2 * d.2) / ((d.0 * d.0 + d.1 * d.1) + d.2 * d.2);
+        let near = (o.0 + d.0 * t0, o.1 + d.1 * t0, o.2 + d.2 * t0);
+        // With Y = 1 − y: x² + z² − Y²/4 = 0.
+        let (near_y, d_y) = (1.0 - near.1, -d.1);
+        let a = d.0 * d.0 + d.2 * d.2 - 0.25 * d_y * d_y;
+        let b = 2.0 * (near.0 * d.0 + near.2 * d.2 - 0.25 * near_y * d_y);
+        let c = near.0 * near.0 + near.2 * near.2 - 0.25 * near_y * near_y;
+        let (s0, s1, real) = quadratic_roots(a, b, c);
+        let body = nearest_root([t0 + s0, t0 + s1], t_max[lane], |t| (-1.0..=1.0).contains(&(o.1 + d.1 * t)));
+        consider(&mut best, &mut part, real & (body < f32::INFINITY), body, 0);
+        let t = (-1.0 - o.1) / d.1;
+        let (x, z) = (o.0 + d.0 * t, o.2 + d.2 * t);
+        consider(&mut best, &mut part, (d.1 != 0.0) & (x * x + z * z <= 1.0), t, 2);
+        let hit = best < t_max[lane];
+        out.0[lane] = if hit { best } else { f32::INFINITY };
+        out.1[lane] = part;
+    }
+    out
+}
+
+/// [`crate::math::roots::solve_quadratic`] without branches: the roots in order and
+/// whether they are real. The discriminant is taken in `f64`, where `b²` and `4ac` of
+/// `f32`s are exact, so its one rounding is the fused multiply-add's of the scalar solver.
+#[inline(always)]
+fn quadratic_roots(a: f32, b: f32, c: f32) -> (f32, f32, bool) {
+    let discriminant = (b as f64) * (b as f64) + -4.0 * a as f64 * c as f64;
+    let root = discriminant.sqrt() as f32;
+    let q = -0.5 * (b + root.copysign(b));
+    let (t0, t1) = if q == 0.0 { (0.0, 0.0) } else { (q / a, c / q) };
+    let (t0, t1) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
+    // A linear equation where a = 0.
+    let linear = -c / b;
+    let flat = a == 0.0;
+    let (t0, t1) = if flat { (linear, linear) } else { (t0, t1) };
+    let real = if flat { b != 0.0 } else { discriminant >= 0.0 };
+    (t0, t1, real)
+}
+
 /// A ray's extent inside the slabs seen so far, and the faces that bound it.
 struct Span {
     near: f32,
@@ -409,8 +547,8 @@ mod tests {
     use super::*;
     use glam::Vec3;
 
-    /// A box of rectangles with a cube, a sphere, a disk and a tilted plane inside,
-    /// and a sphere whose material casts no shadow.
+    /// A box of rectangles with a cube, a sphere, a disk, a tilted plane, a tilted
+    /// cylinder and cone inside, and a sphere whose material casts no shadow.
     fn scene() -> RenderScene {
         use crate::desc::{MaterialDesc, NodeDesc, NodeKind, SceneDesc, ShapeDesc, TransformOp};
         let rotate = |axis: Vec3, degrees: f32| TransformOp::Rotate { axis, degrees };
@@ -443,6 +581,18 @@ mod tests {
         objects.push(node(ShapeDesc::Disk, disk, 0));
         let plane = vec![rotate(Vec3::Z, 4.0), translate(Vec3::new(0.0, -0.85, 0.0))];
         objects.push(node(ShapeDesc::Plane, plane, 0));
+        let cylinder = vec![
+            TransformOp::Scale(Vec3::new(0.15, 0.3, 0.15)),
+            rotate(Vec3::X, 40.0),
+            translate(Vec3::new(0.5, 0.4, 0.4)),
+        ];
+        objects.push(node(ShapeDesc::Cylinder, cylinder, 0));
+        let cone = vec![
+            TransformOp::Scale(Vec3::new(0.25, 0.3, 0.25)),
+            rotate(Vec3::Z, 30.0),
+            translate(Vec3::new(-0.55, 0.0, -0.5)),
+        ];
+        objects.push(node(ShapeDesc::Cone, cone, 0));
         let shadowless = MaterialDesc { casts_shadows: false, ..MaterialDesc::default() };
         let desc = SceneDesc { materials: vec![MaterialDesc::default(), shadowless], objects, ..Default::default() };
         super::super::compile(&desc).expect("the test scene compiles")
@@ -468,7 +618,7 @@ mod tests {
     #[test]
     fn waves_find_the_hits_single_rays_find() {
         let scene = scene();
-        let few = FewObjects::of(&scene).expect("rectangles, a cube, spheres, a disk and a plane are few objects");
+        let few = FewObjects::of(&scene).expect("rectangles, a cube, spheres, a disk, a plane, a cylinder and a cone are few objects");
         let mut found_on = vec![false; scene.instances.len()];
         for chunk in rays().chunks(WAVE) {
             let mut wave = RayWave::default();

@@ -1,0 +1,219 @@
+//! A Whitted tile as waves of eight rays, for scenes of a handful of analytic objects
+//! ([`FewObjects`]).
+//!
+//! The lighting equation is linear in what each ray brings back, so a sample's ray tree
+//! need not be walked depth first: every ray can carry its weight in the pixel (the
+//! product of the `k·O` factors above it) and add its hit's local light, weighted, to
+//! its sample, in any order. The tile's rays wait on a stack, camera rays first; each
+//! step traces eight of them side by side, shades each hit (ambient and lights), and
+//! pushes the reflected and transmitted rays it spawns. Shadow rays wait apart with the
+//! light they would add and are traced eight at a time too; an unblocked one adds its
+//! light, one stopped by an opaque object nothing, and one that meets a transparent
+//! object is followed through by the scalar [`RenderScene::transmittance`].
+//!
+//! A sample sums the same terms as the recursion, in another order, so its value agrees
+//! with it to rounding (the tests hold the two images to 1e-5); an area light's jitter
+//! is drawn from the sample's stream in the order the waves reach its hits, so with
+//! area lights the soft shadows' noise differs, not their mean.
+
+use glam::Vec3;
+
+use super::{TileFilm, Traced, camera_sample, whitted_aov};
+use crate::film::Aov;
+use crate::integrator::observe::NoObserver;
+use crate::integrator::whitted::{ShadowRays, for_each_secondary, shade_vertex};
+use crate::integrator::{Counters, SurfaceId, TraceContext};
+use crate::math::Ray;
+use crate::scene::{FewObjects, NO_OBJECT, RayWave, RenderScene, WAVE};
+
+/// At least this many samples are traced together, whole pixels at a time: enough to
+/// keep waves full while the trees thin out, few enough to stay in cache.
+const BATCH_SAMPLES: usize = 256;
+
+/// A camera sample whose tree is in flight: what it has gathered so far.
+struct Sample {
+    fx: f32,
+    fy: f32,
+    ctx: TraceContext,
+    value: Vec3,
+    aov: Aov,
+}
+
+/// A ray waiting to be traced: its sample, its weight in that sample and its depth.
+struct Pending {
+    sample: u32,
+    ray: Ray,
+    weight: Vec3,
+    depth: u32,
+}
+
+/// A shadow ray waiting to be traced, with the light (already weighted) it adds to its
+/// sample if nothing is in the way, and the surface it leaves (to blame for a NaN).
+struct PendingShadow {
+    sample: u32,
+    ray: Ray,
+    t_max: f32,
+    light: Vec3,
+    surface: SurfaceId,
+}
+
+/// The shadow rays one hit puts aside, weighted by its ray's weight.
+struct Deferred<'a> {
+    queue: &'a mut Vec<PendingShadow>,
+    sample: u32,
+    weight: Vec3,
+    surface: SurfaceId,
+}
+
+impl ShadowRays for Deferred<'_> {
+    #[inline(always)]
+    fn filter(&mut self, _: &RenderScene, _: &Ray, _: f32) -> Option<Vec3> {
+        None
+    }
+
+    #[inline(always)]
+    fn defer(&mut self, ray: &Ray, t_max: f32, light: Vec3) {
+        let light = self.weight * light;
+        self.queue.push(PendingShadow { sample: self.sample, ray: *ray, t_max, light, surface: self.surface });
+    }
+}
+
+/// Every sample of the tile `(x0, y0)`–`(x1, y1)`, traced in waves through `few` and
+/// splatted in pixel order.
+#[inline(always)]
+pub(super) fn whitted_tile_in_waves(
+    scene: &RenderScene,
+    few: &FewObjects,
+    (x0, y0, x1, y1): (u32, u32, u32, u32),
+    film: &mut TileFilm,
+    counters: &mut Counters,
+) {
+    let s = &scene.settings;
+    let spp = s.spp;
+    if spp == 0 {
+        return;
+    }
+    let mut pixels = (y0..y1).flat_map(|py| (x0..x1).map(move |px| (px, py))).peekable();
+    let mut samples = Vec::new();
+    let (mut rays, mut shadows) = (Vec::new(), Vec::new());
+    while pixels.peek().is_some() {
+        samples.clear();
+        while samples.len() < BATCH_SAMPLES
+            && let Some((px, py)) = pixels.next()
+        {
+            for index in 0..spp {
+                let camera = camera_sample(scene, &s.sampler, px, py, index);
+                let sample = samples.len() as u32;
+                rays.push(Pending { sample, ray: camera.ray, weight: Vec3::ONE, depth: 0 });
+                let (fx, fy, ctx) = (camera.fx, camera.fy, camera.ctx);
+                samples.push(Sample { fx, fy, ctx, value: Vec3::ZERO, aov: Aov::default() });
+            }
+        }
+        // Popped from the end: the batch's first camera rays go first.
+        rays.reverse();
+        trace_batch(scene, few, &mut samples, &mut rays, &mut shadows);
+        for sample in &samples {
+            counters.rays += sample.ctx.counters.rays;
+            let (fx, fy, value, aov) = (sample.fx, sample.fy, sample.value, sample.aov);
+            film.splat(&Traced { fx, fy, value, aov, culprit: sample.ctx.counters.non_finite_at });
+        }
+    }
+}
+
+/// Traces `rays` and every ray they spawn, shadow rays included, adding what each
+/// brings back to its sample.
+#[inline(always)]
+fn trace_batch(
+    scene: &RenderScene,
+    few: &FewObjects,
+    samples: &mut [Sample],
+    rays: &mut Vec<Pending>,
+    shadows: &mut Vec<PendingShadow>,
+) {
+    let mut wave = Vec::with_capacity(WAVE);
+    while !rays.is_empty() {
+        wave.clear();
+        wave.extend((0..WAVE).map_while(|_| rays.pop()));
+        let mut lanes = RayWave::default();
+        for (lane, pending) in wave.iter().enumerate() {
+            lanes.set(lane, &pending.ray, f32::INFINITY, false);
+        }
+        let hits = few.trace(&lanes);
+        for (lane, pending) in wave.iter().enumerate() {
+            let sample = &mut samples[pending.sample as usize];
+            sample.ctx.counters.rays += 1;
+            let hit = scene.few_objects_hit(&pending.ray, &hits, lane);
+            if pending.depth == 0 {
+                sample.aov = whitted_aov(scene, &pending.ray, hit.as_ref(), sample.ctx.footprint_scale);
+            }
+            let Some(hit) = hit else {
+                sample.value += pending.weight * scene.background(pending.ray.dir);
+                continue;
+            };
+            let surface = SurfaceId::of(&hit);
+            let mut deferred = Deferred { queue: shadows, sample: pending.sample, weight: pending.weight, surface };
+            let local = shade_vertex(scene, &pending.ray, &hit, &mut sample.ctx, &mut deferred, &mut NoObserver);
+            let local = pending.weight * local;
+            if !local.is_finite() {
+                sample.ctx.counters.blame(&hit);
+            }
+            sample.value += local;
+            for_each_secondary(scene, &pending.ray, &hit, pending.depth, pending.weight, |ray, _, _, weight| {
+                rays.push(Pending { sample: pending.sample, ray, weight, depth: pending.depth + 1 });
+            });
+        }
+        while shadows.len() >= WAVE {
+            let at = shadows.len() - WAVE;
+            resolve_shadows(scene, few, samples, &shadows[at..]);
+            shadows.truncate(at);
+        }
+    }
+    if !shadows.is_empty() {
+        resolve_shadows(scene, few, samples, shadows);
+        shadows.clear();
+    }
+}
+
+/// Traces up to [`WAVE`] shadow rays side by side and adds to each sample the light of
+/// those that reach their light.
+#[inline(always)]
+fn resolve_shadows(scene: &RenderScene, few: &FewObjects, samples: &mut [Sample], shadows: &[PendingShadow]) {
+    let mut lanes = RayWave::default();
+    for (lane, shadow) in shadows.iter().enumerate() {
+        lanes.set(lane, &shadow.ray, shadow.t_max, true);
+    }
+    let mut add = |shadow: &PendingShadow, filter: Vec3| {
+        if filter == Vec3::ZERO {
+            return;
+        }
+        let sample = &mut samples[shadow.sample as usize];
+        let light = filter * shadow.light;
+        if !light.is_finite() {
+            sample.ctx.counters.blame_surface(shadow.surface);
+        }
+        sample.value += light;
+    };
+    if !(scene.has_transmissive && scene.settings.features.transparent_shadows) {
+        let blocked = few.blocked(&lanes);
+        for (lane, shadow) in shadows.iter().enumerate() {
+            if blocked[lane] == 0 {
+                add(shadow, Vec3::ONE);
+            }
+        }
+        return;
+    }
+    // Transparent occluders filter the light: the nearest one met decides whether the
+    // ray must be followed through.
+    let hits = few.trace(&lanes);
+    for (lane, shadow) in shadows.iter().enumerate() {
+        let object = hits.object[lane];
+        if object == NO_OBJECT {
+            add(shadow, Vec3::ONE);
+            continue;
+        }
+        let material = &scene.materials[scene.instances[object as usize].material as usize];
+        if material.transmissive != Vec3::ZERO {
+            add(shadow, scene.transmittance(&shadow.ray, shadow.t_max));
+        }
+    }
+}
