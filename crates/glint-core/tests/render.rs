@@ -583,3 +583,89 @@ fn adaptive_samples_narrow_the_footprint_as_their_count_grows() {
     let scales: Vec<f32> = [0, 3, 15, 63].iter().map(|&i| adaptive.sample_footprint(i)).collect();
     assert_eq!(scales, [1.0, 0.5, 0.25, 0.125], "sample k as one of k + 1, at least an eighth");
 }
+
+/// A classic Whitted scene of seven analytic objects: a checkered plane, mirror, glass
+/// and matte spheres, a cylinder, a cone and a cube under two point lights, which the
+/// renderer traces in waves of eight rays.
+fn whitted_room() -> SceneDesc {
+    let translate = TransformOp::Translate;
+    let scale = TransformOp::Scale;
+    let material = |diffuse: Vec3, reflective: Vec3, transmissive: Vec3| MaterialDesc {
+        diffuse,
+        specular: Vec3::splat(0.5),
+        shininess: 60.0,
+        reflective: Some(reflective),
+        transmissive,
+        ior: 1.5,
+        ..Default::default()
+    };
+    let floor = MaterialDesc { texture: Some(0), textured_ambient: true, ..material(Vec3::ONE, Vec3::ZERO, Vec3::ZERO) };
+    let checks = TextureDesc::Checker {
+        name: "checks".into(),
+        even: Vec3::splat(0.9),
+        odd: Vec3::splat(0.1),
+        cells: Vec2::splat(8.0),
+        filtered: false,
+    };
+    let point = |position: Vec3, color: f32| LightDesc::Point { position, color: Vec3::splat(color), attenuation: Vec3::X };
+    SceneDesc {
+        settings: RenderSettings {
+            width: 64,
+            height: 48,
+            max_depth: 5,
+            ambient_light: Vec3::splat(0.1),
+            background: Vec3::new(0.05, 0.08, 0.2),
+            ..Default::default()
+        },
+        camera: CameraDesc {
+            eye: Vec3::new(0.0, 3.2, 10.0),
+            look: Vec3::new(0.0, -2.3, -10.0),
+            up: Vec3::Y,
+            fov_y_degrees: 40.0,
+            ..Default::default()
+        },
+        lights: vec![point(Vec3::new(5.0, 9.0, 6.0), 0.8), point(Vec3::new(-6.0, 7.0, 4.0), 0.4)],
+        materials: vec![
+            floor,
+            material(Vec3::splat(0.05), Vec3::splat(0.85), Vec3::ZERO),
+            material(Vec3::ZERO, Vec3::splat(0.1), Vec3::splat(0.9)),
+            material(Vec3::new(0.8, 0.1, 0.1), Vec3::splat(0.05), Vec3::ZERO),
+        ],
+        textures: vec![checks],
+        objects: vec![
+            node(ShapeDesc::Plane, 0, vec![scale(Vec3::splat(4.0))]),
+            node(ShapeDesc::Sphere, 1, vec![translate(Vec3::new(-1.2, 1.0, -0.5))]),
+            node(ShapeDesc::Sphere, 2, vec![scale(Vec3::splat(0.75)), translate(Vec3::new(1.1, 0.75, 1.6))]),
+            node(ShapeDesc::Sphere, 3, vec![scale(Vec3::splat(0.5)), translate(Vec3::new(-2.3, 0.5, 1.5))]),
+            node(ShapeDesc::Cylinder, 3, vec![scale(Vec3::new(0.45, 1.0, 0.45)), translate(Vec3::new(-3.6, 1.0, -2.0))]),
+            node(ShapeDesc::Cone, 1, vec![scale(Vec3::new(0.6, 0.9, 0.6)), translate(Vec3::new(3.4, 0.9, -1.4))]),
+            node(
+                ShapeDesc::Cube,
+                2,
+                vec![
+                    scale(Vec3::splat(0.6)),
+                    TransformOp::Rotate { axis: Vec3::Y, degrees: 30.0 },
+                    translate(Vec3::new(1.0, 0.6, -2.8)),
+                ],
+            ),
+        ],
+        ..Default::default()
+    }
+}
+
+#[test]
+fn whitted_waves_give_the_image_of_rays_traced_one_by_one() {
+    let scene = compile(&whitted_room()).unwrap();
+    assert!(scene.few_objects.is_some(), "seven analytic objects are few");
+    let alone = glint_core::scene::RenderScene { few_objects: None, ..scene.clone() };
+    let run = |scene| render(scene, &|_, _| {}, &AtomicBool::new(false)).unwrap();
+    let ((waves, wave_stats), (single, single_stats)) = (run(&scene), run(&alone));
+    // The same ray trees: camera, reflected, refracted and shadow rays alike.
+    assert_eq!(wave_stats.rays, single_stats.rays);
+    assert!(single_stats.rays > 3 * 64 * 48, "mirrors, glass and shadows: {}", single_stats.rays);
+    // The same terms summed in another order: equal to rounding.
+    for (a, b) in waves.pixels.iter().zip(&single.pixels) {
+        assert!((*a - *b).abs().max_element() <= 1e-5 * b.max_element().max(1.0), "{a} against {b}");
+    }
+}
+
