@@ -219,26 +219,23 @@ fn adaptive_tile(
     let (rx0, ry0) = (x0.saturating_sub(1), y0.saturating_sub(1));
     let (rx1, ry1) = ((x1 + 1).min(s.width), (y1 + 1).min(s.height));
     let ring_width = (rx1 - rx0) as usize;
-    let mut spreads = Vec::with_capacity(ring_width * (ry1 - ry0) as usize);
-    for py in ry0..ry1 {
-        for px in rx0..rx1 {
-            let inside = (x0..x1).contains(&px) && (y0..y1).contains(&py);
-            let mut spread = Spread::default();
-            for index in 0..adaptive.min_samples {
-                let traced = trace_sample(scene, &sampler, px, py, index, counters);
-                if inside {
-                    film.splat(&traced);
-                }
-                spread.add(display_luminance(traced.value));
-            }
-            spreads.push(spread);
-        }
-    }
     let at = |px: u32, py: u32| (py - ry0) as usize * ring_width + (px - rx0) as usize;
-    let mut counts = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
-    for py in y0..y1 {
-        for px in x0..x1 {
-            let mut spread = spreads[at(px, py)].clone();
+    let mut spreads = vec![Spread::default(); ring_width * (ry1 - ry0) as usize];
+    let min = adaptive.min_samples;
+    let first: Vec<(u32, u32, u32)> =
+        (ry0..ry1).flat_map(|py| (rx0..rx1).flat_map(move |px| (0..min).map(move |index| (px, py, index)))).collect();
+    trace_samples(scene, &sampler, &first, counters, &mut |(px, py, _), traced| {
+        if (x0..x1).contains(&px) && (y0..y1).contains(&py) {
+            film.splat(&traced);
+        }
+        spreads[at(px, py)].add(display_luminance(traced.value));
+    });
+    // Each of the tile's pixels: its samples' spread, the count it goes on to, and
+    // whether one sample that its neighbours agree with settles it.
+    let mut pixels: Vec<Refined> = (y0..y1)
+        .flat_map(|py| (x0..x1).map(move |px| (px, py)))
+        .map(|(px, py)| {
+            let spread = spreads[at(px, py)].clone();
             let neighbours = [(px.wrapping_sub(1), py), (px + 1, py), (px, py.wrapping_sub(1)), (px, py + 1)];
             let contrast = neighbours
                 .iter()
@@ -246,22 +243,84 @@ fn adaptive_tile(
                 .map(|&(x, y)| (spreads[at(x, y)].mean - spread.mean).abs() as f32)
                 .fold(0.0, f32::max);
             let forced = if contrast > 2.0 * adaptive.threshold { 4 * adaptive.min_samples } else { 0 };
-            let mut target = forced.min(adaptive.max_samples);
-            loop {
-                while spread.count < target {
-                    let traced = trace_sample(scene, &sampler, px, py, spread.count, counters);
-                    film.splat(&traced);
-                    spread.add(display_luminance(traced.value));
-                }
-                if spread.count >= adaptive.max_samples || spread.standard_error() <= adaptive.threshold {
-                    break;
-                }
-                target = (spread.count * 2).min(adaptive.max_samples);
-            }
-            counts.push(spread.count);
+            // One sample tells nothing of a pixel's spread: where its neighbours agree
+            // with it, the pixel is taken to be flat and stops (POV-Ray's anti-aliasing
+            // supersamples only pixels that differ from their neighbours, too).
+            let settled = spread.count == 1 && contrast <= adaptive.threshold;
+            Refined { pixel: (px, py), spread, target: forced.min(adaptive.max_samples), settled, done: false }
+        })
+        .collect();
+    // In rounds, so each round's samples trace together: every pixel not done takes
+    // its samples up to its target, then stops or doubles the target.
+    let mut requests = Vec::new();
+    loop {
+        requests.clear();
+        for p in pixels.iter().filter(|p| !p.done) {
+            requests.extend((p.spread.count..p.target).map(|index| (p.pixel.0, p.pixel.1, index)));
+        }
+        let tile_width = (x1 - x0) as usize;
+        let index_of = |(px, py): (u32, u32)| (py - y0) as usize * tile_width + (px - x0) as usize;
+        trace_samples(scene, &sampler, &requests, counters, &mut |(px, py, _), traced| {
+            film.splat(&traced);
+            pixels[index_of((px, py))].spread.add(display_luminance(traced.value));
+        });
+        let mut any_left = false;
+        for p in pixels.iter_mut().filter(|p| !p.done) {
+            let (count, flat) = (p.spread.count, p.settled && p.spread.count == 1);
+            p.done = count >= adaptive.max_samples || flat || p.spread.standard_error() <= adaptive.threshold;
+            p.target = (count * 2).min(adaptive.max_samples);
+            any_left |= !p.done;
+        }
+        if !any_left {
+            return pixels.iter().map(|p| p.spread.count).collect();
         }
     }
-    counts
+}
+
+/// A pixel of an adaptive tile as it is refined.
+struct Refined {
+    pixel: (u32, u32),
+    spread: Spread,
+    /// The count its next round takes it to.
+    target: u32,
+    /// Whether its single sample agrees with its neighbours, which settles it.
+    settled: bool,
+    done: bool,
+}
+
+/// Traces the samples `(px, py, index)` of `requests` at `sampler`'s positions and hands
+/// each to `done` in order: in waves where the scene is a handful of analytic objects
+/// shaded by the lighting equation, else one by one.
+fn trace_samples(
+    scene: &RenderScene,
+    sampler: &PixelSampler,
+    requests: &[(u32, u32, u32)],
+    counters: &mut Counters,
+    done: &mut dyn FnMut((u32, u32, u32), Traced),
+) {
+    if let (Some(few), IntegratorDesc::Whitted) = (&scene.few_objects, scene.settings.integrator) {
+        return crate::accel::lanes::on_avx2_or!(
+            |_avx| trace_samples_in_waves_avx2(scene, few, sampler, requests, counters, done),
+            whitted_waves::trace_samples_in_waves(scene, few, sampler, requests.iter().copied(), counters, done)
+        );
+    }
+    for &(px, py, index) in requests {
+        done((px, py, index), trace_sample(scene, sampler, px, py, index, counters));
+    }
+}
+
+/// [`whitted_waves::trace_samples_in_waves`] compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn trace_samples_in_waves_avx2(
+    scene: &RenderScene,
+    few: &crate::scene::FewObjects,
+    sampler: &PixelSampler,
+    requests: &[(u32, u32, u32)],
+    counters: &mut Counters,
+    done: &mut dyn FnMut((u32, u32, u32), Traced),
+) {
+    whitted_waves::trace_samples_in_waves(scene, few, sampler, requests.iter().copied(), counters, done)
 }
 
 /// Every sample of every pixel of the tile `(x0, y0, x1, y1)`, splatted into `film` in

@@ -24,6 +24,7 @@ use crate::integrator::observe::NoObserver;
 use crate::integrator::whitted::{ShadowRays, for_each_secondary, shade_vertex};
 use crate::integrator::{Counters, SurfaceId, TraceContext};
 use crate::math::Ray;
+use crate::sampling::PixelSampler;
 use crate::scene::{FewObjects, NO_OBJECT, RayWave, RenderScene, WAVE};
 
 /// At least this many samples are traced together, whole pixels at a time: enough to
@@ -88,34 +89,50 @@ pub(super) fn whitted_tile_in_waves(
     film: &mut TileFilm,
     counters: &mut Counters,
 ) {
-    let s = &scene.settings;
-    let spp = s.spp;
-    if spp == 0 {
-        return;
-    }
-    let mut pixels = (y0..y1).flat_map(|py| (x0..x1).map(move |px| (px, py))).peekable();
-    let mut samples = Vec::new();
+    let spp = scene.settings.spp;
+    let requests = (y0..y1).flat_map(|py| (x0..x1).flat_map(move |px| (0..spp).map(move |index| (px, py, index))));
+    trace_samples_in_waves(scene, few, &scene.settings.sampler, requests, counters, |_, traced| film.splat(&traced));
+}
+
+/// Traces the samples `(px, py, index)` that `requests` names, at the positions
+/// `sampler` gives, in waves through `few`, and hands each to `done` with its request,
+/// in the order asked. Batches of whole pixels when the requests come pixel by pixel.
+#[inline(always)]
+pub(super) fn trace_samples_in_waves(
+    scene: &RenderScene,
+    few: &FewObjects,
+    sampler: &PixelSampler,
+    requests: impl Iterator<Item = (u32, u32, u32)>,
+    counters: &mut Counters,
+    mut done: impl FnMut((u32, u32, u32), Traced),
+) {
+    let mut requests = requests.peekable();
+    let (mut asked, mut samples) = (Vec::new(), Vec::new());
     let (mut rays, mut shadows) = (Vec::new(), Vec::new());
-    while pixels.peek().is_some() {
+    while requests.peek().is_some() {
+        asked.clear();
         samples.clear();
-        while samples.len() < BATCH_SAMPLES
-            && let Some((px, py)) = pixels.next()
-        {
-            for index in 0..spp {
-                let camera = camera_sample(scene, &s.sampler, px, py, index);
-                let sample = samples.len() as u32;
-                rays.push(Pending { sample, ray: camera.ray, weight: Vec3::ONE, depth: 0 });
-                let (fx, fy, ctx) = (camera.fx, camera.fy, camera.ctx);
-                samples.push(Sample { fx, fy, ctx, value: Vec3::ZERO, aov: Aov::default() });
+        // Up to the batch size, then on to the end of the pixel.
+        while let Some(&(px, py, index)) = requests.peek() {
+            let pixel_done = asked.last().is_some_and(|&(x, y, _)| (x, y) != (px, py));
+            if asked.len() >= BATCH_SAMPLES && pixel_done {
+                break;
             }
+            requests.next();
+            let camera = camera_sample(scene, sampler, px, py, index);
+            let sample = samples.len() as u32;
+            rays.push(Pending { sample, ray: camera.ray, weight: Vec3::ONE, depth: 0 });
+            let (fx, fy, ctx) = (camera.fx, camera.fy, camera.ctx);
+            samples.push(Sample { fx, fy, ctx, value: Vec3::ZERO, aov: Aov::default() });
+            asked.push((px, py, index));
         }
         // Popped from the end: the batch's first camera rays go first.
         rays.reverse();
         trace_batch(scene, few, &mut samples, &mut rays, &mut shadows);
-        for sample in &samples {
+        for (&request, sample) in asked.iter().zip(&samples) {
             counters.rays += sample.ctx.counters.rays;
             let (fx, fy, value, aov) = (sample.fx, sample.fy, sample.value, sample.aov);
-            film.splat(&Traced { fx, fy, value, aov, culprit: sample.ctx.counters.non_finite_at });
+            done(request, Traced { fx, fy, value, aov, culprit: sample.ctx.counters.non_finite_at });
         }
     }
 }
