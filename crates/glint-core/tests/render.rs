@@ -599,7 +599,8 @@ fn whitted_room() -> SceneDesc {
         ior: 1.5,
         ..Default::default()
     };
-    let floor = MaterialDesc { texture: Some(0), textured_ambient: true, ..material(Vec3::ONE, Vec3::ZERO, Vec3::ZERO) };
+    let floor =
+        MaterialDesc { texture: Some(0), textured_ambient: true, ..material(Vec3::ONE, Vec3::ZERO, Vec3::ZERO) };
     let checks = TextureDesc::Checker {
         name: "checks".into(),
         even: Vec3::splat(0.9),
@@ -607,7 +608,8 @@ fn whitted_room() -> SceneDesc {
         cells: Vec2::splat(8.0),
         filtered: false,
     };
-    let point = |position: Vec3, color: f32| LightDesc::Point { position, color: Vec3::splat(color), attenuation: Vec3::X };
+    let point =
+        |position: Vec3, color: f32| LightDesc::Point { position, color: Vec3::splat(color), attenuation: Vec3::X };
     SceneDesc {
         settings: RenderSettings {
             width: 64,
@@ -637,7 +639,11 @@ fn whitted_room() -> SceneDesc {
             node(ShapeDesc::Sphere, 1, vec![translate(Vec3::new(-1.2, 1.0, -0.5))]),
             node(ShapeDesc::Sphere, 2, vec![scale(Vec3::splat(0.75)), translate(Vec3::new(1.1, 0.75, 1.6))]),
             node(ShapeDesc::Sphere, 3, vec![scale(Vec3::splat(0.5)), translate(Vec3::new(-2.3, 0.5, 1.5))]),
-            node(ShapeDesc::Cylinder, 3, vec![scale(Vec3::new(0.45, 1.0, 0.45)), translate(Vec3::new(-3.6, 1.0, -2.0))]),
+            node(
+                ShapeDesc::Cylinder,
+                3,
+                vec![scale(Vec3::new(0.45, 1.0, 0.45)), translate(Vec3::new(-3.6, 1.0, -2.0))],
+            ),
             node(ShapeDesc::Cone, 1, vec![scale(Vec3::new(0.6, 0.9, 0.6)), translate(Vec3::new(3.4, 0.9, -1.4))]),
             node(
                 ShapeDesc::Cube,
@@ -668,4 +674,3 @@ fn whitted_waves_give_the_image_of_rays_traced_one_by_one() {
         assert!((*a - *b).abs().max_element() <= 1e-5 * b.max_element().max(1.0), "{a} against {b}");
     }
 }
-

@@ -621,7 +621,8 @@ mod tests {
     #[test]
     fn waves_find_the_hits_single_rays_find() {
         let scene = scene();
-        let few = FewObjects::of(&scene).expect("rectangles, a cube, spheres, a disk, a plane, a cylinder and a cone are few objects");
+        let few = FewObjects::of(&scene)
+            .expect("rectangles, a cube, spheres, a disk, a plane, a cylinder and a cone are few objects");
         let mut found_on = vec![false; scene.instances.len()];
         for chunk in rays().chunks(WAVE) {
             let mut wave = RayWave::default();

@@ -270,8 +270,6 @@ fn adaptive_decide(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let s = adaptive_state(id.x, id.y);
     var target_count = s.target_count;
-    // One sample tells nothing of a pixel's spread: it stops where its neighbours agree.
-    var settled = false;
     if s.count >= target_count {
         if params.adaptive_first != 0u {
             // A pixel whose mean differs from a neighbour's by more than twice the
@@ -289,14 +287,13 @@ fn adaptive_decide(@builtin(global_invocation_id) id: vec3<u32>) {
             if contrast > 2.0 * params.adaptive_threshold {
                 target_count = max(min(4u * params.adaptive_min, params.adaptive_max), s.count);
             }
-            settled = s.count == 1u && contrast <= params.adaptive_threshold;
         }
         if s.count >= target_count {
             var standard_error = INF;
             if s.count >= 2u {
                 standard_error = sqrt(s.m2 / f32(s.count - 1u) / f32(s.count));
             }
-            if s.count >= params.adaptive_max || standard_error <= params.adaptive_threshold || settled {
+            if s.count >= params.adaptive_max || standard_error <= params.adaptive_threshold {
                 target_count = s.count;
             } else {
                 target_count = min(2u * s.count, params.adaptive_max);
