@@ -229,6 +229,7 @@ fn blamed_if_non_finite(color: Vec3, hit: &Hit, ctx: &mut TraceContext) -> Vec3 
 /// The non-recursive part: ambient plus every unshadowed light's diffuse and specular.
 /// `n` faces the viewer and `v` points to it; shadow rays travel at `time`. Inlined, so
 /// the AVX2 shading compiles it for AVX2 too.
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn direct_lighting(
     scene: &RenderScene,
