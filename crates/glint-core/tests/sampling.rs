@@ -183,6 +183,27 @@ fn adaptive_sampling_spends_samples_on_edges_not_on_flat_regions() {
 }
 
 #[test]
+fn one_sample_that_agrees_with_its_neighbours_settles_a_pixel() {
+    // From one sample the adaptive sampler cannot estimate a pixel's spread: a pixel
+    // whose neighbours agree with it stops there, one whose neighbours differ (an edge)
+    // goes on, and the rim still gets the maximum.
+    let mut desc = edge_scene();
+    desc.settings.adaptive = Some(AdaptiveDesc { min_samples: 1, max_samples: 16, threshold: 0.02 });
+    let (image, stats) = run(&desc);
+    let counts = &stats.samples_per_pixel;
+    let at = |x: u32, y: u32| counts[(y * 64 + x) as usize];
+    assert_eq!((at(0, 0), at(32, 32)), (1, 1), "flat background and interior keep one sample");
+    let rim: Vec<u32> = (0..64u32)
+        .flat_map(|y| (0..64u32).map(move |x| (x, y)))
+        .filter(|&(x, y)| (0.05..0.95).contains(&image.get(x, y).x))
+        .map(|(x, y)| at(x, y))
+        .collect();
+    assert!(rim.len() > 20 && rim.iter().all(|&n| n >= 4), "every rim pixel refines: {rim:?}");
+    let total: u32 = counts.iter().sum();
+    assert!(total < 64 * 64 * 2, "most pixels take one sample: {total}");
+}
+
+#[test]
 fn same_seed_gives_the_same_image_and_another_seed_other_noise() {
     let mut desc = shadow_scene(2.0, true);
     desc.settings.pattern = SamplePattern::Jittered;

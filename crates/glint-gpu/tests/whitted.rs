@@ -219,6 +219,14 @@ fn checkers_filtered_over_the_pixel_footprint_match_the_cpu() {
     check("whitted filtered checkers", &scene, &gpu);
     // Adaptive sampling narrows the footprint sample by sample, on both backends.
     scene.settings.adaptive = Some(glint_core::desc::AdaptiveDesc { min_samples: 1, max_samples: 8, threshold: 0.05 });
+    // Each pixel takes as many samples on both: one where its neighbours agree with its
+    // first, more along edges (a rule the GPU once lost after its first round).
+    let cancel = std::sync::atomic::AtomicBool::new(false);
+    let cpu_counts = glint_core::render::render(&scene, &|_, _| {}, &cancel).unwrap().1.samples_per_pixel;
+    let gpu_counts = glint_gpu::render(&gpu, &scene, &|_, _| {}, &cancel).unwrap().1.samples_per_pixel;
+    let differing = cpu_counts.iter().zip(&gpu_counts).filter(|(c, g)| c != g).count();
+    assert!(differing <= cpu_counts.len() / 100, "{differing} pixels take other counts");
+    assert!(cpu_counts.contains(&1) && cpu_counts.iter().any(|&n| n > 2), "flat pixels and edges both occur");
     check("whitted filtered checkers, adaptive", &scene, &gpu);
 }
 

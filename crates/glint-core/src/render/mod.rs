@@ -230,7 +230,8 @@ fn adaptive_tile(
         }
         spreads[at(px, py)].add(display_luminance(traced.value));
     });
-    // Each of the tile's pixels: its samples' spread and the count it goes on to.
+    // Each of the tile's pixels: its samples' spread, the count it goes on to, and
+    // whether one sample that its neighbours agree with settles it.
     let mut pixels: Vec<Refined> = (y0..y1)
         .flat_map(|py| (x0..x1).map(move |px| (px, py)))
         .map(|(px, py)| {
@@ -242,7 +243,11 @@ fn adaptive_tile(
                 .map(|&(x, y)| (spreads[at(x, y)].mean - spread.mean).abs() as f32)
                 .fold(0.0, f32::max);
             let forced = if contrast > 2.0 * adaptive.threshold { 4 * adaptive.min_samples } else { 0 };
-            Refined { pixel: (px, py), spread, target: forced.min(adaptive.max_samples), done: false }
+            // One sample tells nothing of a pixel's spread: where its neighbours agree
+            // with it, the pixel is taken to be flat and stops (POV-Ray's anti-aliasing
+            // supersamples only pixels that differ from their neighbours, too).
+            let settled = spread.count == 1 && contrast <= adaptive.threshold;
+            Refined { pixel: (px, py), spread, target: forced.min(adaptive.max_samples), settled, done: false }
         })
         .collect();
     // In rounds, so each round's samples trace together: every pixel not done takes
@@ -261,8 +266,8 @@ fn adaptive_tile(
         });
         let mut any_left = false;
         for p in pixels.iter_mut().filter(|p| !p.done) {
-            let count = p.spread.count;
-            p.done = count >= adaptive.max_samples || p.spread.standard_error() <= adaptive.threshold;
+            let (count, flat) = (p.spread.count, p.settled && p.spread.count == 1);
+            p.done = count >= adaptive.max_samples || flat || p.spread.standard_error() <= adaptive.threshold;
             p.target = (count * 2).min(adaptive.max_samples);
             any_left |= !p.done;
         }
@@ -278,6 +283,8 @@ struct Refined {
     spread: Spread,
     /// The count its next round takes it to.
     target: u32,
+    /// Whether its single sample agrees with its neighbours, which settles it.
+    settled: bool,
     done: bool,
 }
 

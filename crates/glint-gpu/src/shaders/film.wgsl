@@ -270,6 +270,10 @@ fn adaptive_decide(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let s = adaptive_state(id.x, id.y);
     var target_count = s.target_count;
+    // One sample tells nothing of a pixel's spread: it stops where its neighbours agree.
+    // The first round decides it, and marks it by a negative m2 (which a spread never
+    // has), so the rounds after it keep it settled.
+    var settled = s.m2 < 0.0;
     if s.count >= target_count {
         if params.adaptive_first != 0u {
             // A pixel whose mean differs from a neighbour's by more than twice the
@@ -287,20 +291,25 @@ fn adaptive_decide(@builtin(global_invocation_id) id: vec3<u32>) {
             if contrast > 2.0 * params.adaptive_threshold {
                 target_count = max(min(4u * params.adaptive_min, params.adaptive_max), s.count);
             }
+            if s.count == 1u && contrast <= params.adaptive_threshold {
+                settled = true;
+                accum[adaptive_slot(id.x, id.y)].z = -1.0;
+            }
         }
         if s.count >= target_count {
             var standard_error = INF;
             if s.count >= 2u {
                 standard_error = sqrt(s.m2 / f32(s.count - 1u) / f32(s.count));
             }
-            if s.count >= params.adaptive_max || standard_error <= params.adaptive_threshold {
+            if s.count >= params.adaptive_max || standard_error <= params.adaptive_threshold || settled {
                 target_count = s.count;
             } else {
                 target_count = min(2u * s.count, params.adaptive_max);
             }
         }
     }
-    // Only the target changes: the neighbours read this pixel's mean meanwhile.
+    // Only the target (and a settled pixel's m2) change: the neighbours read this
+    // pixel's mean meanwhile.
     accum[adaptive_slot(id.x, id.y)].w = bitcast<f32>(target_count);
     if target_count > s.count {
         atomicAdd(&faults[round_tally()], 1u);
