@@ -301,7 +301,7 @@ fn trace_samples(
     if let (Some(few), IntegratorDesc::Whitted) = (&scene.few_objects, scene.settings.integrator) {
         return crate::accel::lanes::on_avx2_or!(
             |_avx| trace_samples_in_waves_avx2(scene, few, sampler, requests, counters, done),
-            whitted_waves::trace_samples_in_waves(scene, few, sampler, requests.iter().copied(), counters, done)
+            whitted_waves::trace_samples_in_waves(scene, few, sampler, requests, counters, done)
         );
     }
     for &(px, py, index) in requests {
@@ -320,7 +320,7 @@ fn trace_samples_in_waves_avx2(
     counters: &mut Counters,
     done: &mut dyn FnMut((u32, u32, u32), Traced),
 ) {
-    whitted_waves::trace_samples_in_waves(scene, few, sampler, requests.iter().copied(), counters, done)
+    whitted_waves::trace_samples_in_waves(scene, few, sampler, requests, counters, done)
 }
 
 /// Every sample of every pixel of the tile `(x0, y0, x1, y1)`, splatted into `film` in

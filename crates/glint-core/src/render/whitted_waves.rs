@@ -90,8 +90,9 @@ pub(super) fn whitted_tile_in_waves(
     counters: &mut Counters,
 ) {
     let spp = scene.settings.spp;
-    let requests = (y0..y1).flat_map(|py| (x0..x1).flat_map(move |px| (0..spp).map(move |index| (px, py, index))));
-    trace_samples_in_waves(scene, few, &scene.settings.sampler, requests, counters, |_, traced| film.splat(&traced));
+    let requests: Vec<(u32, u32, u32)> =
+        (y0..y1).flat_map(|py| (x0..x1).flat_map(move |px| (0..spp).map(move |index| (px, py, index)))).collect();
+    trace_samples_in_waves(scene, few, &scene.settings.sampler, &requests, counters, |_, traced| film.splat(&traced));
 }
 
 /// Traces the samples `(px, py, index)` that `requests` names, at the positions
@@ -102,34 +103,33 @@ pub(super) fn trace_samples_in_waves(
     scene: &RenderScene,
     few: &FewObjects,
     sampler: &PixelSampler,
-    requests: impl Iterator<Item = (u32, u32, u32)>,
+    requests: &[(u32, u32, u32)],
     counters: &mut Counters,
     mut done: impl FnMut((u32, u32, u32), Traced),
 ) {
-    let mut requests = requests.peekable();
-    let (mut asked, mut samples) = (Vec::new(), Vec::new());
+    let mut samples = Vec::with_capacity(BATCH_SAMPLES);
     let (mut rays, mut shadows) = (Vec::new(), Vec::new());
-    while requests.peek().is_some() {
-        asked.clear();
-        samples.clear();
+    let mut start = 0;
+    while start < requests.len() {
         // Up to the batch size, then on to the end of the pixel.
-        while let Some(&(px, py, index)) = requests.peek() {
-            let pixel_done = asked.last().is_some_and(|&(x, y, _)| (x, y) != (px, py));
-            if asked.len() >= BATCH_SAMPLES && pixel_done {
-                break;
-            }
-            requests.next();
+        let mut end = (start + BATCH_SAMPLES).min(requests.len());
+        let same_pixel = |a: &(u32, u32, u32), b: &(u32, u32, u32)| (a.0, a.1) == (b.0, b.1);
+        while end < requests.len() && same_pixel(&requests[end], &requests[end - 1]) {
+            end += 1;
+        }
+        let batch = &requests[start..end];
+        start = end;
+        samples.clear();
+        // Pushed in reverse and popped from the end: the batch's first rays go first.
+        for (k, &(px, py, index)) in batch.iter().enumerate().rev() {
             let camera = camera_sample(scene, sampler, px, py, index);
-            let sample = samples.len() as u32;
-            rays.push(Pending { sample, ray: camera.ray, weight: Vec3::ONE, depth: 0 });
+            rays.push(Pending { sample: k as u32, ray: camera.ray, weight: Vec3::ONE, depth: 0 });
             let (fx, fy, ctx) = (camera.fx, camera.fy, camera.ctx);
             samples.push(Sample { fx, fy, ctx, value: Vec3::ZERO, aov: Aov::default() });
-            asked.push((px, py, index));
         }
-        // Popped from the end: the batch's first camera rays go first.
-        rays.reverse();
+        samples.reverse();
         trace_batch(scene, few, &mut samples, &mut rays, &mut shadows);
-        for (&request, sample) in asked.iter().zip(&samples) {
+        for (&request, sample) in batch.iter().zip(&samples) {
             counters.rays += sample.ctx.counters.rays;
             let (fx, fy, value, aov) = (sample.fx, sample.fy, sample.value, sample.aov);
             done(request, Traced { fx, fy, value, aov, culprit: sample.ctx.counters.non_finite_at });
