@@ -123,10 +123,14 @@ impl Light {
     /// [0, 1)² inside its stratum. An area light's intensity is shared equally by its
     /// samples, so summing all samples gives the whole light.
     pub fn sample(&self, p: Vec3, index: u32, jitter: Vec2) -> Incidence {
+        if matches!(self.kind, LightKind::Point | LightKind::Directional | LightKind::Spot) {
+            return self.incidence(p);
+        }
+        // (After the test: the integer divisions would otherwise run for every light.)
         let n = self.samples_per_axis;
         let u = (Vec2::new((index % n) as f32, (index / n) as f32) + jitter) / n as f32;
         let point = match self.kind {
-            LightKind::Point | LightKind::Directional | LightKind::Spot => return self.incidence(p),
+            LightKind::Point | LightKind::Directional | LightKind::Spot => unreachable!("returned above"),
             LightKind::Rectangle => self.position + u.x * self.edge_u + u.y * self.edge_v,
             LightKind::Disk => self.position + disk_point(self.direction, self.radius, u),
             // The disk the sphere presents to p: the visible part of a sphere light.
