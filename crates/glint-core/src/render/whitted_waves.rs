@@ -159,7 +159,7 @@ fn trace_batch(
         for (lane, pending) in wave.iter().enumerate() {
             let sample = &mut samples[pending.sample as usize];
             sample.ctx.counters.rays += 1;
-            let hit = scene.few_objects_hit(&pending.ray, &hits, lane);
+            let hit = scene.few_objects_hit_for_lighting(&pending.ray, &hits, lane);
             if pending.depth == 0 {
                 sample.aov = whitted_aov(scene, &pending.ray, hit.as_ref(), sample.ctx.footprint_scale);
             }

@@ -273,6 +273,38 @@ impl RenderScene {
 }
 
 impl RenderScene {
+    /// [`RenderScene::few_objects_hit`] for the lighting equation, which reads the
+    /// texture coordinates only to look up a texture: an untextured surface's hit is
+    /// built from the shapes' own formulas, inlined, with its uv left at zero (a
+    /// sphere's is an arc tangent and an arc sine).
+    #[inline(always)]
+    pub fn few_objects_hit_for_lighting(&self, ray: &Ray, hits: &WaveHits, lane: usize) -> Option<Hit> {
+        let index = hits.object[lane];
+        if index == NO_OBJECT {
+            return None;
+        }
+        let inst = &self.instances[index as usize];
+        let material = inst.material;
+        if self.materials[material as usize].texture != crate::material::NO_TEXTURE {
+            return self.few_objects_hit(ray, hits, lane);
+        }
+        let (point, normal) = self.few_objects_surface(ray, hits, lane);
+        Some(Hit {
+            t: hits.t[lane],
+            point,
+            normal,
+            geometric_normal: normal,
+            shadow_point: point,
+            uv: glam::Vec2::ZERO,
+            color: Vec3::ONE,
+            material,
+            instance: index,
+            part: hits.part[lane],
+        })
+    }
+}
+
+impl RenderScene {
     /// The world-space point and unit normal of the hit [`FewObjects::trace`] found for
     /// `ray`'s lane `lane` (which hit something): those [`RenderScene::few_objects_hit`]
     /// gives, without the rest of a [`Hit`] (texture coordinates, the hit record) and
@@ -699,6 +731,14 @@ mod tests {
                         }
                         // The lean surface diffuse lanes take is the whole hit's.
                         assert_eq!(scene.few_objects_surface(ray, &hits, lane), (b.point, b.normal), "ray {ray:?}");
+                        // So is the lighting's hit, but for the uv of untextured surfaces.
+                        let lit = scene.few_objects_hit_for_lighting(ray, &hits, lane).unwrap();
+                        let fields = |h: &Hit| {
+                            (h.t, h.point, h.normal, h.geometric_normal, h.shadow_point)
+                                .eq(&(b.t, b.point, b.normal, b.geometric_normal, b.shadow_point))
+                                && (h.color, h.material, h.instance, h.part) == (b.color, b.material, b.instance, b.part)
+                        };
+                        assert!(fields(&lit), "ray {ray:?}: {lit:?} against {b:?}");
                     }
                     (a, b) => panic!("ray {ray:?}: single {a:?}, wave {b:?}"),
                 }
