@@ -90,8 +90,12 @@ pub(super) fn whitted_tile_in_waves(
     counters: &mut Counters,
 ) {
     let spp = scene.settings.spp;
-    let requests: Vec<(u32, u32, u32)> =
-        (y0..y1).flat_map(|py| (x0..x1).flat_map(move |px| (0..spp).map(move |index| (px, py, index)))).collect();
+    let mut requests = Vec::with_capacity(((x1 - x0) * (y1 - y0) * spp) as usize);
+    for py in y0..y1 {
+        for px in x0..x1 {
+            requests.extend((0..spp).map(|index| (px, py, index)));
+        }
+    }
     trace_samples_in_waves(scene, few, &scene.settings.sampler, &requests, counters, |_, traced| film.splat(&traced));
 }
 
