@@ -15,8 +15,12 @@ fn scene(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenes").join(name)
 }
 
+/// A temporary path of its own for each call: tests run in parallel, and two that wrote
+/// the same scene to one path removed it under each other.
 fn temp(name: &str) -> PathBuf {
-    std::env::temp_dir().join(format!("glint-device-{}-{name}", std::process::id()))
+    static CALLS: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    std::env::temp_dir().join(format!("glint-device-{}-{call}-{name}", std::process::id()))
 }
 
 /// Whether some GPU adapter (lavapipe counts) exists here; CI installs lavapipe.

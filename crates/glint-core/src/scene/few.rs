@@ -733,12 +733,10 @@ mod tests {
                         assert_eq!(scene.few_objects_surface(ray, &hits, lane), (b.point, b.normal), "ray {ray:?}");
                         // So is the lighting's hit, but for the uv of untextured surfaces.
                         let lit = scene.few_objects_hit_for_lighting(ray, &hits, lane).unwrap();
-                        let fields = |h: &Hit| {
-                            (h.t, h.point, h.normal, h.geometric_normal, h.shadow_point)
-                                .eq(&(b.t, b.point, b.normal, b.geometric_normal, b.shadow_point))
-                                && (h.color, h.material, h.instance, h.part) == (b.color, b.material, b.instance, b.part)
-                        };
-                        assert!(fields(&lit), "ray {ray:?}: {lit:?} against {b:?}");
+                        let geometry = |h: &Hit| (h.t, h.point, h.normal, h.geometric_normal, h.shadow_point);
+                        let identity = |h: &Hit| (h.color, h.material, h.instance, h.part);
+                        assert_eq!(geometry(&lit), geometry(&b), "ray {ray:?}");
+                        assert_eq!(identity(&lit), identity(&b), "ray {ray:?}");
                     }
                     (a, b) => panic!("ray {ray:?}: single {a:?}, wave {b:?}"),
                 }
