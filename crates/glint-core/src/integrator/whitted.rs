@@ -12,7 +12,6 @@ use glam::Vec2;
 
 use super::TraceContext;
 use super::observe::{NoObserver, Observer, RayKind};
-
 use crate::material::{Material, NO_TEXTURE};
 use crate::math::{Ray, offset_ray_origin};
 use crate::scene::{Hit, RenderScene};
