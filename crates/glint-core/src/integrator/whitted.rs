@@ -103,8 +103,9 @@ fn shade_with<O: Observer>(
         observer.done(background);
         return background;
     };
-    let mut color = shade_vertex(scene, ray, &hit, ctx, &mut TracedNow, observer);
-    for_each_secondary(scene, ray, &hit, depth, weight, |r, kind, k, weight| {
+    let facing = Facing::of(ray, &hit);
+    let mut color = shade_vertex(scene, (ray, &hit, &facing), ctx, &mut TracedNow, observer);
+    for_each_secondary(scene, (ray, &hit, &facing), depth, weight, |r, kind, k, weight| {
         let hit = scene.intersect(&r, f32::INFINITY);
         let term = k * again(scene, (&r, kind), hit, depth + 1, weight, ctx, observer);
         observer.term(kind.term_formula(), term);
@@ -115,40 +116,49 @@ fn shade_with<O: Observer>(
 }
 
 /// The local part of the lighting equation at `hit` (ambient and every light) for a
-/// ray `ray` that found it, its shadow rays handled by `shadows`.
+/// ray `ray` that found it, seen as `facing` says, its shadow rays handled by `shadows`.
 #[inline(always)]
 pub fn shade_vertex(
     scene: &RenderScene,
-    ray: &Ray,
-    hit: &Hit,
+    (ray, hit, facing): (&Ray, &Hit, &Facing),
     ctx: &mut TraceContext,
     shadows: &mut impl ShadowRays,
     observer: &mut impl Observer,
 ) -> Vec3 {
     let material = &scene.materials[hit.material as usize];
-    let (d, n, _) = facing(ray, hit);
-    direct_lighting(scene, hit, material, (n, -d), ray.time, ctx, shadows, observer)
+    direct_lighting(scene, hit, material, (facing.n, -facing.d), ray.time, ctx, shadows, observer)
 }
 
-/// The unit direction of `ray`, and `hit`'s shading and true normals turned to face it:
-/// the side the ray arrived on is the side shaded. The true surface decides the side
-/// and carries the ray offsets; an interpolated mesh normal may lean.
-#[inline(always)]
-fn facing(ray: &Ray, hit: &Hit) -> (Vec3, Vec3, Vec3) {
-    let d = ray.dir.normalize();
-    let entering = hit.geometric_normal.dot(d) < 0.0;
-    let (n, ng) = if entering { (hit.normal, hit.geometric_normal) } else { (-hit.normal, -hit.geometric_normal) };
-    (d, n, ng)
+/// How a ray meets its hit: its unit direction, and the hit's shading and true normals
+/// turned to face it (the side the ray arrived on is the side shaded). The true surface
+/// decides the side and carries the ray offsets; an interpolated mesh normal may lean.
+/// Found once per hit, for both its lighting and its secondary rays.
+#[derive(Clone, Copy)]
+pub struct Facing {
+    d: Vec3,
+    n: Vec3,
+    ng: Vec3,
+    entering: bool,
+}
+
+impl Facing {
+    /// How `ray` meets `hit`.
+    #[inline(always)]
+    pub fn of(ray: &Ray, hit: &Hit) -> Facing {
+        let d = ray.dir.normalize();
+        let entering = hit.geometric_normal.dot(d) < 0.0;
+        let (n, ng) = if entering { (hit.normal, hit.geometric_normal) } else { (-hit.normal, -hit.geometric_normal) };
+        Facing { d, n, ng, entering }
+    }
 }
 
 /// Calls `spawn(ray, kind, k, weight)` for the reflected and transmitted rays of the
-/// ray `ray` that found `hit` at `depth` with `weight`, where they are worth tracing:
+/// ray `ray` that found `hit` (meeting it as `facing` says) at `depth` with `weight`, where they are worth tracing:
 /// each adds `k` times what it brings back, and carries `weight · k` on.
 #[inline(always)]
 pub fn for_each_secondary(
     scene: &RenderScene,
-    ray: &Ray,
-    hit: &Hit,
+    (ray, hit, facing): (&Ray, &Hit, &Facing),
     depth: u32,
     weight: Vec3,
     mut spawn: impl FnMut(Ray, RayKind, Vec3, Vec3),
@@ -157,8 +167,7 @@ pub fn for_each_secondary(
         return;
     }
     let material = &scene.materials[hit.material as usize];
-    let (d, n, ng) = facing(ray, hit);
-    let entering = hit.geometric_normal.dot(d) < 0.0;
+    let Facing { d, n, ng, entering } = *facing;
     let worth_tracing = |w: Vec3| w.max_element() > scene.settings.min_contribution;
     let reflected_dir = reflect(d, n);
     let features = scene.settings.features;

@@ -21,7 +21,7 @@ use glam::Vec3;
 use super::{TileFilm, Traced, camera_sample, whitted_aov};
 use crate::film::Aov;
 use crate::integrator::observe::NoObserver;
-use crate::integrator::whitted::{ShadowRays, for_each_secondary, shade_vertex};
+use crate::integrator::whitted::{Facing, ShadowRays, for_each_secondary, shade_vertex};
 use crate::integrator::{Counters, SurfaceId, TraceContext};
 use crate::math::Ray;
 use crate::sampling::PixelSampler;
@@ -173,13 +173,15 @@ fn trace_batch(
             };
             let surface = SurfaceId::of(&hit);
             let mut deferred = Deferred { queue: shadows, sample: pending.sample, weight: pending.weight, surface };
-            let local = shade_vertex(scene, &pending.ray, &hit, &mut sample.ctx, &mut deferred, &mut NoObserver);
+            let facing = Facing::of(&pending.ray, &hit);
+            let seen = (&pending.ray, &hit, &facing);
+            let local = shade_vertex(scene, seen, &mut sample.ctx, &mut deferred, &mut NoObserver);
             let local = pending.weight * local;
             if !local.is_finite() {
                 sample.ctx.counters.blame(&hit);
             }
             sample.value += local;
-            for_each_secondary(scene, &pending.ray, &hit, pending.depth, pending.weight, |ray, _, _, weight| {
+            for_each_secondary(scene, seen, pending.depth, pending.weight, |ray, _, _, weight| {
                 rays.push(Pending { sample: pending.sample, ray, weight, depth: pending.depth + 1 });
             });
         }

@@ -270,9 +270,7 @@ impl RenderScene {
         // Only analytic instances are few objects.
         Some(self.hit_on_analytic(ray, &local, index, hit))
     }
-}
 
-impl RenderScene {
     /// [`RenderScene::few_objects_hit`] for the lighting equation, which reads the
     /// texture coordinates only to look up a texture: an untextured surface's hit is
     /// built from the shapes' own formulas, inlined, with its uv left at zero (a
