@@ -8,8 +8,9 @@
 //! step traces eight of them side by side, shades each hit (ambient and lights), and
 //! pushes the reflected and transmitted rays it spawns. Shadow rays wait apart with the
 //! light they would add and are traced eight at a time too; an unblocked one adds its
-//! light, one stopped by an opaque object nothing, and one that meets a transparent
-//! object is followed through by the scalar [`RenderScene::transmittance`].
+//! light, one stopped by an opaque object nothing, and one that meets transparent
+//! objects goes on past them, in waves too, filtered by each as
+//! [`RenderScene::transmittance`] filters a single ray.
 //!
 //! A sample sums the same terms as the recursion, in another order, so its value agrees
 //! with it to rounding (the tests hold the two images to 1e-5); an area light's jitter
@@ -23,9 +24,9 @@ use crate::film::Aov;
 use crate::integrator::observe::NoObserver;
 use crate::integrator::whitted::{Facing, ShadowRays, for_each_secondary, shade_vertex};
 use crate::integrator::{Counters, SurfaceId, TraceContext};
-use crate::math::Ray;
+use crate::math::{Ray, offset_ray_origin};
 use crate::sampling::PixelSampler;
-use crate::scene::{FewObjects, NO_OBJECT, RayWave, RenderScene, WAVE};
+use crate::scene::{FewObjects, NO_OBJECT, RayWave, RenderScene, WAVE, WaveHits};
 
 /// At least this many samples are traced together, whole pixels at a time: enough to
 /// keep waves full while the trees thin out, few enough to stay in cache.
@@ -225,18 +226,62 @@ fn resolve_shadows(scene: &RenderScene, few: &FewObjects, samples: &mut [Sample]
         }
         return;
     }
-    // Transparent occluders filter the light: the nearest one met decides whether the
-    // ray must be followed through.
-    let hits = few.trace(&lanes);
-    for (lane, shadow) in shadows.iter().enumerate() {
-        let object = hits.object[lane];
-        if object == NO_OBJECT {
-            add(shadow, Vec3::ONE);
-            continue;
+    // Transparent occluders filter the light: each ray goes on past the transparent
+    // surfaces it meets, in waves, until it reaches its light or an opaque surface.
+    let mut crossings: Vec<Crossing> = shadows
+        .iter()
+        .map(|shadow| Crossing { shadow, ray: shadow.ray, t_left: shadow.t_max, filter: Vec3::ONE })
+        .collect();
+    let mut hits = few.trace(&lanes);
+    // The bound only guards against pathological scenes, as in `transmittance`.
+    for _ in 0..64 {
+        let mut next = Vec::with_capacity(crossings.len());
+        let mut lanes = RayWave::default();
+        for (lane, crossing) in crossings.iter().enumerate() {
+            let object = hits.object[lane];
+            if object == NO_OBJECT {
+                add(crossing.shadow, crossing.filter);
+                continue;
+            }
+            let material = &scene.materials[scene.instances[object as usize].material as usize];
+            let filter = crossing.filter * material.transmissive;
+            if filter.max_element() <= 0.0 {
+                continue;
+            }
+            let beyond = crossing.past_surface(scene, &hits, lane, filter);
+            lanes.set(next.len(), &beyond.ray, beyond.t_left, true);
+            next.push(beyond);
         }
-        let material = &scene.materials[scene.instances[object as usize].material as usize];
-        if material.transmissive != Vec3::ZERO {
-            add(shadow, scene.transmittance(&shadow.ray, shadow.t_max));
+        if next.is_empty() {
+            return;
         }
+        hits = few.trace(&lanes);
+        crossings = next;
+    }
+}
+
+/// A shadow ray on its way through transparent surfaces: what is left of its segment
+/// and the filter of the surfaces crossed so far.
+struct Crossing<'a> {
+    shadow: &'a PendingShadow,
+    ray: Ray,
+    t_left: f32,
+    filter: Vec3,
+}
+
+impl Crossing<'_> {
+    /// The same shadow ray, past the surface its lane of `hits` met, with `filter`: as
+    /// [`RenderScene::transmittance`] steps on, the far end of the segment kept fixed.
+    #[inline(always)]
+    fn past_surface(&self, scene: &RenderScene, hits: &WaveHits, lane: usize, filter: Vec3) -> Self {
+        let (point, normal) = scene.few_objects_surface(&self.ray, hits, lane);
+        let side = if normal.dot(self.ray.dir) > 0.0 { normal } else { -normal };
+        let origin = offset_ray_origin(point, side);
+        let mut t_left = self.t_left;
+        if t_left.is_finite() {
+            t_left = (self.ray.at(t_left) - origin).dot(self.ray.dir) / self.ray.dir.length_squared();
+        }
+        let ray = Ray { origin, ..self.ray };
+        Crossing { shadow: self.shadow, ray, t_left, filter }
     }
 }
