@@ -305,7 +305,8 @@ impl RenderScene {
 impl RenderScene {
     /// The world-space point and unit normal of the hit [`FewObjects::trace`] found for
     /// `ray`'s lane `lane` (which hit something): those [`RenderScene::few_objects_hit`]
-    /// gives, without the rest of a [`Hit`] (texture coordinates, the hit record) and
+    /// gives, without the rest of a [`Hit`] (texture coordinates, the hit record: see
+    /// [`Primitive::point_and_normal`]) and
     /// with each shape's formula inlined rather than reached through the shape
     /// dispatch.
     #[inline(always)]
@@ -315,17 +316,20 @@ impl RenderScene {
         let xf = &inst.transform;
         let local = xf.ray_to_object(ray);
         let hit = ShapeHit { t: hits.t[lane], part: hits.part[lane] };
-        let surface = match inst.shape.kind {
-            ShapeKind::Rectangle => Rectangle.surface(&local, hit),
-            ShapeKind::Disk => Disk.surface(&local, hit),
-            ShapeKind::Plane => Plane.surface(&local, hit),
-            ShapeKind::Sphere => Sphere.surface(&local, hit),
-            ShapeKind::Cube => Cube.surface(&local, hit),
-            ShapeKind::Cylinder => Cylinder.surface(&local, hit),
-            ShapeKind::Cone => Cone.surface(&local, hit),
-            _ => inst.shape.surface_with(&self.shape_tables, &local, hit),
+        let (point, normal) = match inst.shape.kind {
+            ShapeKind::Rectangle => Rectangle.point_and_normal(&local, hit),
+            ShapeKind::Disk => Disk.point_and_normal(&local, hit),
+            ShapeKind::Plane => Plane.point_and_normal(&local, hit),
+            ShapeKind::Sphere => Sphere.point_and_normal(&local, hit),
+            ShapeKind::Cube => Cube.point_and_normal(&local, hit),
+            ShapeKind::Cylinder => Cylinder.point_and_normal(&local, hit),
+            ShapeKind::Cone => Cone.point_and_normal(&local, hit),
+            _ => {
+                let surface = inst.shape.surface_with(&self.shape_tables, &local, hit);
+                (surface.point, surface.normal)
+            }
         };
-        (xf.point_to_world(surface.point), xf.normal_to_world(surface.normal).normalize_or(Vec3::Y))
+        (xf.point_to_world(point), xf.normal_to_world(normal).normalize_or(Vec3::Y))
     }
 }
 

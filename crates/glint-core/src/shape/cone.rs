@@ -40,9 +40,19 @@ impl Primitive for Cone {
     }
 
     fn surface(&self, ray: &Ray, hit: ShapeHit) -> SurfacePoint {
+        if hit.part == BASE {
+            return cap_surface(ray.at(hit.t), false);
+        }
+        let (point, normal) = self.point_and_normal(ray, hit);
+        SurfacePoint { point, normal, uv: Vec2::new(azimuth_u(point), 0.5 + 0.5 * point.y) }
+    }
+
+    #[inline(always)]
+    fn point_and_normal(&self, ray: &Ray, hit: ShapeHit) -> (Vec3, Vec3) {
         let p = ray.at(hit.t);
         if hit.part == BASE {
-            return cap_surface(p, false);
+            let cap = cap_surface(p, false);
+            return (cap.point, cap.normal);
         }
         let y = p.y.clamp(-1.0, 1.0);
         // Project radially onto the body: radius (1 − y)/2 at height y.
@@ -50,8 +60,7 @@ impl Primitive for Cone {
         let point = Vec3::new(radial.x, y, radial.y);
         // ∇f/2 = (x, (1 − y)/4, z); at the apex it vanishes, so use the axis there.
         let normal = Vec3::new(point.x, 0.25 * (1.0 - y), point.z);
-        let normal = if normal.length_squared() > 0.0 { normal } else { Vec3::Y };
-        SurfacePoint { point, normal, uv: Vec2::new(azimuth_u(point), 0.5 + 0.5 * y) }
+        (point, if normal.length_squared() > 0.0 { normal } else { Vec3::Y })
     }
 
     fn bounds(&self) -> Aabb {

@@ -49,15 +49,28 @@ impl Primitive for Cylinder {
     }
 
     fn surface(&self, ray: &Ray, hit: ShapeHit) -> SurfacePoint {
+        match hit.part {
+            BODY => {
+                let (point, normal) = self.point_and_normal(ray, hit);
+                SurfacePoint { point, normal, uv: Vec2::new(azimuth_u(point), 0.5 + 0.5 * point.y) }
+            }
+            _ => cap_surface(ray.at(hit.t), hit.part == TOP),
+        }
+    }
+
+    #[inline(always)]
+    fn point_and_normal(&self, ray: &Ray, hit: ShapeHit) -> (Vec3, Vec3) {
         let p = ray.at(hit.t);
         match hit.part {
             BODY => {
                 let radial = Vec2::new(p.x, p.z).normalize_or(Vec2::X);
                 let point = Vec3::new(radial.x, p.y.clamp(-1.0, 1.0), radial.y);
-                let uv = Vec2::new(azimuth_u(point), 0.5 + 0.5 * point.y);
-                SurfacePoint { point, normal: Vec3::new(point.x, 0.0, point.z), uv }
+                (point, Vec3::new(point.x, 0.0, point.z))
             }
-            _ => cap_surface(p, hit.part == TOP),
+            _ => {
+                let cap = cap_surface(p, hit.part == TOP);
+                (cap.point, cap.normal)
+            }
         }
     }
 

@@ -71,6 +71,14 @@ pub trait Primitive {
     fn intersect(&self, ray: &Ray, t_max: f32) -> Option<ShapeHit>;
     /// Surface data at a hit returned by [`Primitive::intersect`] for the same ray.
     fn surface(&self, ray: &Ray, hit: ShapeHit) -> SurfacePoint;
+    /// [`Primitive::surface`]'s point and normal alone, for surfaces shaded without a
+    /// texture: a round shape's uv costs calls to `atan2` and `asin` that the compiler
+    /// cannot drop when they go unused.
+    #[inline(always)]
+    fn point_and_normal(&self, ray: &Ray, hit: ShapeHit) -> (Vec3, Vec3) {
+        let surface = self.surface(ray, hit);
+        (surface.point, surface.normal)
+    }
     /// Object-space bounds; infinite for unbounded surfaces.
     fn bounds(&self) -> Aabb;
 }

@@ -22,10 +22,16 @@ impl Primitive for Sphere {
     }
 
     fn surface(&self, ray: &Ray, hit: ShapeHit) -> SurfacePoint {
-        let point = ray.at(hit.t).normalize_or(Vec3::Y);
+        let (point, normal) = self.point_and_normal(ray, hit);
         let v = 0.5 + point.y.clamp(-1.0, 1.0).asin() / std::f32::consts::PI;
+        SurfacePoint { point, normal, uv: Vec2::new(azimuth_u(point), v) }
+    }
+
+    #[inline(always)]
+    fn point_and_normal(&self, ray: &Ray, hit: ShapeHit) -> (Vec3, Vec3) {
+        let point = ray.at(hit.t).normalize_or(Vec3::Y);
         // ∇f = 2P; the factor 2 is irrelevant once normalized.
-        SurfacePoint { point, normal: point, uv: Vec2::new(azimuth_u(point), v) }
+        (point, point)
     }
 
     fn bounds(&self) -> Aabb {
