@@ -165,7 +165,7 @@ fn trace_batch(
             let sample = &mut samples[pending.sample as usize];
             sample.ctx.counters.rays += 1;
             let hit = scene.few_objects_hit_for_lighting(&pending.ray, &hits, lane);
-            if pending.depth == 0 {
+            if pending.depth == 0 && scene.settings.aovs {
                 sample.aov = whitted_aov(scene, &pending.ray, hit.as_ref(), sample.ctx.footprint_scale);
             }
             let Some(hit) = hit else {
