@@ -253,6 +253,9 @@ pub(super) fn insert_farthest_first<E: Copy>(
 pub(super) struct SlabRay<L: Lanes> {
     lanes: L,
     inv: [L::V; 3],
+    /// `inv` widened by [`ROBUST_FAR`], for the far planes: the far distances come out
+    /// widened, with no multiply of their own on the way to the compare.
+    inv_far: [L::V; 3],
     origin: [L::V; 3],
     near_plane: [usize; 3],
     far_plane: [usize; 3],
@@ -274,6 +277,7 @@ impl<L: Lanes> SlabRay<L> {
         SlabRay {
             lanes,
             inv: [inv.x, inv.y, inv.z].map(|x| lanes.splat(x)),
+            inv_far: [inv.x, inv.y, inv.z].map(|x| lanes.splat(x * ROBUST_FAR)),
             origin: [ray.origin.x, ray.origin.y, ray.origin.z].map(|x| lanes.splat(x)),
             near_plane,
             far_plane: near_plane.map(|p| p ^ 1),
@@ -285,16 +289,20 @@ impl<L: Lanes> SlabRay<L> {
     #[inline(always)]
     fn interval(&self, n: &WideNode, t_max: f32) -> (L::V, L::V) {
         let lanes = self.lanes;
-        let slab = |plane: usize, axis: usize| lanes.load(&n.bounds[plane]).sub(self.origin[axis]).mul(self.inv[axis]);
+        let slab = |plane: usize, axis: usize, inv: &[L::V; 3]| {
+            lanes.load(&n.bounds[plane]).sub(self.origin[axis]).mul(inv[axis])
+        };
         let [nx, ny, nz] = self.near_plane;
         let [fx, fy, fz] = self.far_plane;
+        let (inv, inv_far) = (&self.inv, &self.inv_far);
         // `min` and `max` return their second operand where either is NaN: each slab
         // distance comes first, so a NaN one (origin on that plane, d parallel to it)
         // drops out and the accumulator, which starts finite, never becomes NaN.
-        let near = slab(nx, 0).max(slab(ny, 1).max(slab(nz, 2).max(lanes.splat(0.0))));
-        // Widened as in `Aabb::hit_interval` so flat boxes hit on an edge are kept.
-        let far = slab(fx, 0).min(slab(fy, 1).min(slab(fz, 2).min(lanes.splat(f32::INFINITY))));
-        (near, far.mul(lanes.splat(ROBUST_FAR)).min(lanes.splat(t_max)))
+        let near = slab(nx, 0, inv).max(slab(ny, 1, inv).max(slab(nz, 2, inv).max(lanes.splat(0.0))));
+        // Widened as in `Aabb::hit_interval` so flat boxes hit on an edge are kept; the
+        // chain starts from `t_max`, so it ends in the compare.
+        let far = slab(fx, 0, inv_far).min(slab(fy, 1, inv_far).min(slab(fz, 2, inv_far).min(lanes.splat(t_max))));
+        (near, far)
     }
 
     /// The distances at which the ray enters each of `n`'s boxes, and the mask of the

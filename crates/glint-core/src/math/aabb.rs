@@ -84,10 +84,13 @@ impl Aabb {
         let t1 = (self.max - ray.origin) * inv_dir;
         // min/max ignore a NaN operand (0·∞ when the origin lies on a slab plane).
         let near = t0.min(t1).max_element().max(0.0);
-        // Widened by the rounding bound of the three operations before it, so a ray that
-        // meets a flat box exactly on its edge is not culled (Ize, "Robust BVH Ray
-        // Traversal", JCGT 2013: 1 + 2γ₃).
-        let far = (t0.max(t1).min_element() * ROBUST_FAR).min(t_max);
+        // Widened by the rounding bound of the operations before it, so a ray that meets
+        // a flat box exactly on its edge is not culled (Ize, "Robust BVH Ray Traversal",
+        // JCGT 2013: 1 + 2γ₃). The widening goes into 1/d: (b − o)·(1/d·R) has the
+        // four roundings (b − o)·(1/d)·R has, and saves the wide traversal a multiply.
+        let inv_far = inv_dir * ROBUST_FAR;
+        let (t0_far, t1_far) = ((self.min - ray.origin) * inv_far, (self.max - ray.origin) * inv_far);
+        let far = t0_far.max(t1_far).min_element().min(t_max);
         (near <= far).then_some((near, far))
     }
 }
