@@ -198,18 +198,28 @@ impl WideBvh {
                 continue;
             }
             // Sort the hit children farthest first: all but the nearest are pushed, so
-            // the nearest of them is popped first.
-            let mut hits = [(0u32, 0u32, 0.0f32); WIDTH];
+            // the nearest of them is popped first. Sorted as keys of four bytes rather
+            // than as stack entries of twelve: an entry distance is never negative, so
+            // its bits order as it does, and the lane takes their lowest three (which
+            // only breaks near-ties).
+            let mut keys = [0u32; WIDTH];
             let mut k = 0;
             while mask != 0 {
-                insert_farthest_first(&mut hits, &mut k, entry(mask.trailing_zeros() as usize), |e| e.2);
+                let lane = mask.trailing_zeros();
+                // Loads started as soon as the children are known.
+                self.prefetch_child(leaves, n.child[lane as usize], n.count[lane as usize]);
+                insert_farthest_first(&mut keys, &mut k, (near[lane as usize].to_bits() & !7) | lane, |&key| key);
                 mask &= mask - 1;
             }
-            for &e in &hits[..k - 1] {
-                stack[top].write(e);
+            let sorted_entry = |key: u32| {
+                let lane = (key & 7) as usize;
+                (n.child[lane], n.count[lane], near[lane])
+            };
+            for &key in &keys[..k - 1] {
+                stack[top].write(sorted_entry(key));
                 top += 1;
             }
-            next = Some(hits[k - 1]);
+            next = Some(sorted_entry(keys[k - 1]));
         }
     }
 }
@@ -233,11 +243,11 @@ impl WideBvh {
 /// Inserts `entry` into `sorted[..*len]`, kept farthest first by `distance`: the caller
 /// pushes all but the last, so the nearest of the pushed ones is popped first.
 #[inline(always)]
-pub(super) fn insert_farthest_first<E: Copy>(
+pub(super) fn insert_farthest_first<E: Copy, D: PartialOrd>(
     sorted: &mut [E],
     len: &mut usize,
     entry: E,
-    distance: impl Fn(&E) -> f32,
+    distance: impl Fn(&E) -> D,
 ) {
     let mut j = *len;
     while j > 0 && distance(&sorted[j - 1]) < distance(&entry) {
