@@ -19,7 +19,7 @@ use crate::material::{Material, NO_TEXTURE};
 use crate::math::{Aabb, Ray, Transform, offset_ray_origin};
 use crate::mesh::Mesh;
 use crate::sampling::{Filter, PixelSampler};
-use crate::shape::{Shape, ShapeKind, ShapeTables};
+use crate::shape::{Primitive, Shape, ShapeKind, ShapeTables};
 
 mod few;
 mod lighting;
@@ -850,7 +850,13 @@ impl RenderScene {
         // uv at each neighbour's point on the tangent plane is the shape's own answer.
         let uv_at = |step: Vec3| {
             let local = xf.ray_to_object(&Ray::new(hit.point + step, -hit.normal));
-            inst.shape.surface_with(&self.shape_tables, &local, crate::shape::ShapeHit { t: 0.0, part: hit.part }).uv
+            let at = crate::shape::ShapeHit { t: 0.0, part: hit.part };
+            match inst.shape.kind {
+                // The textured floor, inlined: through the shape dispatch, the surface
+                // came back through memory and stalled the loads that read its uv.
+                ShapeKind::Plane => crate::shape::Plane.surface(&local, at).uv,
+                _ => inst.shape.surface_with(&self.shape_tables, &local, at).uv,
+            }
         };
         // Bounded shapes' uvs wrap at a seam (a sphere's u from 1 to 0): the step across
         // it is the short way round. The plane's uvs run on unbounded.
