@@ -151,13 +151,17 @@ impl FilmTile {
 
     /// The weighted averages; a pixel no sample reached is black.
     pub fn resolve(&self) -> Image {
-        let pixels = self
-            .sums
-            .iter()
-            .zip(&self.weights)
-            .map(|(s, &w)| if w.abs() > 1e-12 { *s / w } else { Vec3::ZERO })
-            .collect();
-        Image { width: self.width, height: self.height, pixels }
+        let mut image = Image::new(self.width, self.height);
+        self.resolve_into(&mut image.pixels);
+        image
+    }
+
+    /// [`FilmTile::resolve`] into `pixels`, this rectangle's pixels row by row (a band
+    /// of a larger image).
+    pub fn resolve_into(&self, pixels: &mut [Vec3]) {
+        for ((pixel, s), &w) in pixels.iter_mut().zip(&self.sums).zip(&self.weights) {
+            *pixel = if w.abs() > 1e-12 { *s / w } else { Vec3::ZERO };
+        }
     }
 
     /// The AOVs' weighted averages, when this film kept them.
@@ -176,6 +180,20 @@ impl FilmTile {
                 .collect(),
         };
         Some(AovImages { albedo: layer(0), normal: layer(1), depth: layer(2) })
+    }
+}
+
+impl AovImages {
+    /// The AOVs of bands of rows, top to bottom, as the whole image's; `None` when the
+    /// bands kept none.
+    pub fn stacked(bands: Vec<Option<AovImages>>) -> Option<AovImages> {
+        let bands: Vec<AovImages> = bands.into_iter().collect::<Option<_>>().filter(|b: &Vec<_>| !b.is_empty())?;
+        let stack = |layer: fn(&AovImages) -> &Image| {
+            let width = bands.first().map_or(0, |b| layer(b).width);
+            let pixels: Vec<Vec3> = bands.iter().flat_map(|b| layer(b).pixels.iter().copied()).collect();
+            Image { width, height: (pixels.len() / width.max(1) as usize) as u32, pixels }
+        };
+        Some(AovImages { albedo: stack(|b| &b.albedo), normal: stack(|b| &b.normal), depth: stack(|b| &b.depth) })
     }
 }
 
