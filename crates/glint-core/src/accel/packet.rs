@@ -1,18 +1,19 @@
 //! Packets of up to eight coherent rays (camera rays of neighbouring pixels) traversing
 //! the wide BVH together: each node is fetched, its hit children sorted and pushed once
 //! for the whole packet, and only the rays that entered a child go on with it. Each ray
-//! still tests the node's eight boxes in one SIMD slab test and reaches every leaf its
-//! closest hit lies in, so it finds the closest hit its single-ray traversal finds; only
-//! the order of the visits differs, which decides between surfaces hit at exactly the
-//! same distance. What the packet saves is the per-node bookkeeping (Wald et al., "Interactive Rendering with Coherent
+//! still makes its own slab test of every box it may enter (rays of one octant side by
+//! side, box by box, after the packet's frustum has ruled boxes out; others the node's
+//! eight boxes at once) and reaches every leaf its closest hit lies in, so it finds the
+//! closest hit its single-ray traversal finds; only the order of the visits differs,
+//! which decides between surfaces hit at exactly the same distance. What the packet saves is the per-node bookkeeping (Wald et al., "Interactive Rendering with Coherent
 //! Ray Tracing", 2001, with the rays rather than the boxes in the SIMD lanes reversed,
 //! as wide BVHs need).
 
 use std::mem::MaybeUninit;
 
 use super::lanes::{F32x8, Lanes};
-use super::wide::{Order, STACK, SlabRay, WIDTH, WideBvh, insert_farthest_first};
-use crate::math::Ray;
+use super::wide::{Order, STACK, SlabRay, WIDTH, WideBvh, WideNode, insert_farthest_first};
+use crate::math::{ROBUST_FAR, Ray};
 
 /// Rays in one packet.
 pub const PACKET: usize = 8;
@@ -139,7 +140,11 @@ impl WideBvh {
         // Rays into different octants part ways at once: they go on alone from the root
         // (the switch below, taken at once: one call site of `alone`, so it is inlined).
         let mut scattered = HYBRID && !one_octant(rays, active);
-        let slabs: [SlabRay<L>; PACKET] = std::array::from_fn(|r| SlabRay::new(lanes, &rays[r.min(rays.len() - 1)]));
+        // Rays of one octant are tested side by side, child by child, after their
+        // frustum has ruled out the children none of them can enter; others ray by ray.
+        let frustum = (!scattered && one_octant(rays, active)).then(|| Frustum::new(lanes, rays, active));
+        let slabs: Option<[SlabRay<L>; PACKET]> =
+            frustum.is_none().then(|| std::array::from_fn(|r| SlabRay::new(lanes, &rays[r.min(rays.len() - 1)])));
         let mut done = 0u32;
         // Left uninitialized, as in the single-ray traversal.
         let mut stack = [MaybeUninit::<Entry>::uninit(); STACK];
@@ -189,24 +194,15 @@ impl WideBvh {
                 continue;
             }
             let n = &self.nodes[entry.index as usize];
-            // Row r of `entered` (byte r) is the mask of children ray r entered.
-            let mut entered = 0u64;
-            let mut child_near = lanes.splat(f32::INFINITY);
-            for r in bits(rays) {
-                if order == Order::Any {
-                    entered |= u64::from(slabs[r].test(n, t_max[r]).1) << (8 * r);
-                    continue;
-                }
-                let (near, mask) = slabs[r].test_or_infinity(n, t_max[r]);
-                entered |= u64::from(mask) << (8 * r);
-                child_near = child_near.min(near);
-            }
-            if entered == 0 {
+            let (child_rays, child_near) = match (&frustum, &slabs) {
+                (Some(frustum), _) => frustum.children_entered(n, order, rays, t_max),
+                (None, Some(slabs)) => children_entered_ray_by_ray(lanes, slabs, n, order, rays, t_max),
+                (None, None) => unreachable!("a packet without a frustum tests ray by ray"),
+            };
+            let hit = child_rays.iter().enumerate().fold(0u32, |m, (lane, &r)| m | u32::from(r != 0) << lane);
+            if hit == 0 {
                 continue;
             }
-            // Transposed, byte `lane` is the mask of rays that entered child `lane`.
-            let child_rays = transpose_8x8(entered).to_le_bytes();
-            let hit = child_rays.iter().enumerate().fold(0u32, |m, (lane, &r)| m | u32::from(r != 0) << lane);
             if order == Order::Any {
                 // Children as they come: the first is next, the rest are pushed.
                 let mut hit = hit;
@@ -223,7 +219,6 @@ impl WideBvh {
                 }
                 continue;
             }
-            let child_near = child_near.to_array();
             // Farthest first into `sorted`; all but the nearest are pushed.
             let mut sorted = [Entry { index: 0, count: 0, rays: 0, t_enter: 0.0 }; WIDTH];
             let mut k = 0;
@@ -239,6 +234,184 @@ impl WideBvh {
             }
             next = Some(sorted[k - 1]);
         }
+    }
+}
+
+/// For each of `n`'s children, the mask of the rays of `rays` that enter it (byte `lane`)
+/// and, for a nearest-first walk, the nearest of their entry distances (+∞ for a child
+/// none enters): each ray tests the node's eight boxes at once, as it does alone. For
+/// packets whose rays head into different octants.
+#[inline(always)]
+fn children_entered_ray_by_ray<L: Lanes>(
+    lanes: L,
+    slabs: &[SlabRay<L>; PACKET],
+    n: &WideNode,
+    order: Order,
+    rays: u32,
+    t_max: &[f32; PACKET],
+) -> ([u8; WIDTH], [f32; WIDTH]) {
+    // Row r of `entered` (byte r) is the mask of children ray r entered.
+    let mut entered = 0u64;
+    let mut child_near = lanes.splat(f32::INFINITY);
+    for r in bits(rays) {
+        if order == Order::Any {
+            entered |= u64::from(slabs[r].test(n, t_max[r]).1) << (8 * r);
+            continue;
+        }
+        let (near, mask) = slabs[r].test_or_infinity(n, t_max[r]);
+        entered |= u64::from(mask) << (8 * r);
+        child_near = child_near.min(near);
+    }
+    // Transposed, byte `lane` is the mask of rays that entered child `lane`.
+    (transpose_8x8(entered).to_le_bytes(), child_near.to_array())
+}
+
+/// A packet of rays that all travel into one octant, ray `r` in lane `r`, and the
+/// bounds of their origins and reciprocal directions. A node's eight boxes are first
+/// tested against the whole packet at once by interval arithmetic: a box whose entry
+/// distance, at its lowest over the rays, exceeds its exit distance at its highest, is
+/// entered by none of them. Only the children left are tested, each against all the
+/// rays at once: a coherent packet enters two or three children of a node, so that
+/// takes three or four box tests where testing ray by ray takes eight. The children's
+/// order, and the distance past which a ray with a nearer hit leaves a child, come from
+/// the frustum's lowest entry distance, never above any of its rays' own.
+///
+/// The bounds hold for the rounded arithmetic too: subtraction and multiplication round
+/// monotonically, so the bound computed from the extreme origin and reciprocal is never
+/// above (below) any ray's own rounded distance, and a ray's test here is its single
+/// test, operation for operation, so each ray enters exactly the children it enters
+/// alone.
+struct Frustum<L: Lanes> {
+    lanes: L,
+    origin: [L::V; 3],
+    inv: [L::V; 3],
+    inv_far: [L::V; 3],
+    near_plane: [usize; 3],
+    far_plane: [usize; 3],
+    /// Per axis, the origins' lowest and highest coordinates, and the lowest and highest
+    /// of `inv` and of `inv_far`.
+    origin_range: [(f32, f32); 3],
+    inv_range: [(f32, f32); 3],
+    inv_far_range: [(f32, f32); 3],
+    /// Per axis, whether the rays travel up it.
+    ascending: [bool; 3],
+}
+
+impl<L: Lanes> Frustum<L> {
+    /// The frustum of the rays of `rays` in `active` (which must travel into one octant).
+    #[inline(always)]
+    fn new(lanes: L, rays: &[Ray], active: u32) -> Self {
+        // Per axis and lane: origin, the very reciprocal `SlabRay::new` takes, and it
+        // widened for the far planes.
+        let (mut origin, mut inv, mut inv_far) = ([[0.0; PACKET]; 3], [[0.0; PACKET]; 3], [[0.0; PACKET]; 3]);
+        for (r, ray) in (0..PACKET).map(|r| (r, &rays[r.min(rays.len() - 1)])) {
+            let recip = ray.dir.recip();
+            for a in 0..3 {
+                (origin[a][r], inv[a][r], inv_far[a][r]) = (ray.origin[a], recip[a], recip[a] * ROBUST_FAR);
+            }
+        }
+        let empty = (f32::INFINITY, f32::NEG_INFINITY);
+        let (mut origin_range, mut inv_range, mut inv_far_range) = ([empty; 3], [empty; 3], [empty; 3]);
+        for r in bits(active) {
+            for a in 0..3 {
+                for (range, value) in [
+                    (&mut origin_range, origin[a][r]),
+                    (&mut inv_range, inv[a][r]),
+                    (&mut inv_far_range, inv_far[a][r]),
+                ] {
+                    range[a] = (range[a].0.min(value), range[a].1.max(value));
+                }
+            }
+        }
+        let first = bits(active).next().unwrap_or(0);
+        // The planes `SlabRay::new` picks: the upper one first where 1/d < 0.
+        let descending: [bool; 3] = std::array::from_fn(|a| inv[a][first] < 0.0);
+        let near_plane = std::array::from_fn(|a| 2 * a + usize::from(descending[a]));
+        Frustum {
+            lanes,
+            origin: origin.map(|o| lanes.load(&o)),
+            inv: inv.map(|i| lanes.load(&i)),
+            inv_far: inv_far.map(|i| lanes.load(&i)),
+            near_plane,
+            far_plane: near_plane.map(|p| p ^ 1),
+            origin_range,
+            inv_range,
+            inv_far_range,
+            ascending: descending.map(|d| !d),
+        }
+    }
+
+    /// The children of `n` that some ray of the packet may enter before `t_far` (the
+    /// packet's farthest `t_max`).
+    #[inline(always)]
+    fn candidates(&self, n: &WideNode, t_far: f32) -> (u32, L::V) {
+        let (lanes, zero) = (self.lanes, self.lanes.splat(0.0));
+        let bound = |plane, axis, range, lowest| self.bound(n, plane, axis, range, lowest);
+        let [nx, ny, nz] = self.near_plane;
+        let [fx, fy, fz] = self.far_plane;
+        let (inv, inv_far) = (&self.inv_range, &self.inv_far_range);
+        let near = bound(nx, 0, inv[0], true).max(bound(ny, 1, inv[1], true).max(bound(nz, 2, inv[2], true).max(zero)));
+        let far = bound(fx, 0, inv_far[0], false)
+            .min(bound(fy, 1, inv_far[1], false).min(bound(fz, 2, inv_far[2], false).min(lanes.splat(t_far))));
+        (near.le_mask(far), near)
+    }
+
+    /// The lowest (`lowest`) or highest distance over the rays to plane `plane` of each
+    /// of `n`'s boxes, on axis `axis`, with reciprocals in `(lo, hi)`: from the origin
+    /// that makes the offset smallest (largest), times the reciprocal that makes the
+    /// product so. (A method, not a closure: a closure that is not inlined loses the
+    /// caller's AVX2, and its intrinsics become calls.)
+    #[inline(always)]
+    fn bound(&self, n: &WideNode, plane: usize, axis: usize, (lo, hi): (f32, f32), lowest: bool) -> L::V {
+        let lanes = self.lanes;
+        let (o_lo, o_hi) = self.origin_range[axis];
+        let farthest_origin = if lowest == self.ascending[axis] { o_hi } else { o_lo };
+        let offset = lanes.load(&n.bounds[plane]).sub(lanes.splat(farthest_origin));
+        let (if_ahead, if_behind) = if lowest { (lo, hi) } else { (hi, lo) };
+        offset.mul(lanes.splat(0.0).select_le(offset, lanes.splat(if_ahead), lanes.splat(if_behind)))
+    }
+
+    /// The distances of every ray to plane `plane` of `n`'s box `lane`, on axis `axis`,
+    /// with reciprocals `inv`: `SlabRay`'s, with the rays in the lanes.
+    #[inline(always)]
+    fn slab(&self, n: &WideNode, lane: usize, plane: usize, axis: usize, inv: &[L::V; 3]) -> L::V {
+        self.lanes.splat(n.bounds[plane][lane]).sub(self.origin[axis]).mul(inv[axis])
+    }
+
+    /// [`children_entered_ray_by_ray`], child by child over the candidates, with the
+    /// frustum's lowest entry distances (a bound below the rays' nearest).
+    #[inline(always)]
+    fn children_entered(
+        &self,
+        n: &WideNode,
+        order: Order,
+        rays: u32,
+        t_max: &[f32; PACKET],
+    ) -> ([u8; WIDTH], [f32; WIDTH]) {
+        let lanes = self.lanes;
+        // Any-hit rays keep their `t_max` until they are done: the frustum's far end
+        // need not follow it.
+        let t_far = match order {
+            Order::Any => f32::INFINITY,
+            Order::NearestFirst => bits(rays).fold(0.0f32, |far, r| if t_max[r] > far { t_max[r] } else { far }),
+        };
+        let t_max_lanes = lanes.load(t_max);
+        let (candidates, lowest_near) = self.candidates(n, t_far);
+        let mut child_rays = [0u8; WIDTH];
+        for lane in bits(candidates) {
+            // `SlabRay::interval`, with the rays in the lanes and the one box splatted.
+            let slab = |plane, axis, inv| self.slab(n, lane, plane, axis, inv);
+            let [nx, ny, nz] = self.near_plane;
+            let [fx, fy, fz] = self.far_plane;
+            let (inv, inv_far) = (&self.inv, &self.inv_far);
+            let zero = lanes.splat(0.0);
+            let near = slab(nx, 0, inv).max(slab(ny, 1, inv).max(slab(nz, 2, inv).max(zero)));
+            let far = slab(fx, 0, inv_far).min(slab(fy, 1, inv_far).min(slab(fz, 2, inv_far).min(t_max_lanes)));
+            child_rays[lane] = (near.le_mask(far) & rays) as u8;
+        }
+        // The children's order, and the distance past which a ray that has found a hit
+        // leaves them, by the frustum's lowest entry distance: never above the rays' own.
+        (child_rays, lowest_near.to_array())
     }
 }
 
