@@ -560,6 +560,18 @@ fn shape_record(shape: &ShapeDesc, origin: &str) -> Result<Shape, CompileError> 
     })
 }
 
+/// The segment `0 < t < t_left` of the shadow ray `ray` moved past the surface it
+/// crosses at `point` (true normal `normal`): its origin offset to the far side, its far
+/// end kept fixed (the same direction, the parameter measured from the new origin; an
+/// infinite segment, toward a directional light, stays infinite).
+pub(crate) fn past_surface(ray: &Ray, t_left: f32, point: Vec3, normal: Vec3) -> (Ray, f32) {
+    let side = if normal.dot(ray.dir) > 0.0 { normal } else { -normal };
+    let origin = offset_ray_origin(point, side);
+    let t_left =
+        if t_left.is_finite() { (ray.at(t_left) - origin).dot(ray.dir) / ray.dir.length_squared() } else { t_left };
+    (Ray { origin, ..*ray }, t_left)
+}
+
 fn instance_bounds(inst: &Instance, meshes: &[Mesh], tables: &ShapeTables, motions: &[Motion]) -> Aabb {
     let b = match inst.shape.kind {
         ShapeKind::Mesh => meshes[inst.shape.mesh_index() as usize].bounds(),
@@ -772,16 +784,7 @@ impl RenderScene {
             if filter.max_element() <= 0.0 {
                 return Vec3::ZERO;
             }
-            let ng = hit.geometric_normal;
-            let side = if ng.dot(ray.dir) > 0.0 { ng } else { -ng };
-            let origin = offset_ray_origin(hit.point, side);
-            // Keep the far end fixed: same direction, parameter measured from the new
-            // origin. An infinite segment (a directional light) stays infinite.
-            if t_left.is_finite() {
-                let end = ray.at(t_left);
-                t_left = (end - origin).dot(ray.dir) / ray.dir.length_squared();
-            }
-            ray.origin = origin;
+            (ray, t_left) = past_surface(&ray, t_left, hit.point, hit.geometric_normal);
         }
         Vec3::ZERO
     }

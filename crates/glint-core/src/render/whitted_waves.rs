@@ -24,7 +24,7 @@ use crate::film::Aov;
 use crate::integrator::observe::NoObserver;
 use crate::integrator::whitted::{Facing, ShadowRays, for_each_secondary, shade_vertex};
 use crate::integrator::{Counters, SurfaceId, TraceContext};
-use crate::math::{Ray, offset_ray_origin};
+use crate::math::Ray;
 use crate::sampling::PixelSampler;
 use crate::scene::{FewObjects, NO_OBJECT, RayWave, RenderScene, WAVE, WaveHits};
 
@@ -275,13 +275,7 @@ impl Crossing<'_> {
     #[inline(always)]
     fn past_surface(&self, scene: &RenderScene, hits: &WaveHits, lane: usize, filter: Vec3) -> Self {
         let (point, normal) = scene.few_objects_surface(&self.ray, hits, lane);
-        let side = if normal.dot(self.ray.dir) > 0.0 { normal } else { -normal };
-        let origin = offset_ray_origin(point, side);
-        let mut t_left = self.t_left;
-        if t_left.is_finite() {
-            t_left = (self.ray.at(t_left) - origin).dot(self.ray.dir) / self.ray.dir.length_squared();
-        }
-        let ray = Ray { origin, ..self.ray };
+        let (ray, t_left) = crate::scene::past_surface(&self.ray, self.t_left, point, normal);
         Crossing { shadow: self.shadow, ray, t_left, filter }
     }
 }
