@@ -400,7 +400,8 @@ impl LaneObject {
     /// Whether some lane's segment `0 < t < t_max` passes through the object's box
     /// (`inv_dir`: each lane's `1/d`): where none does, the wave skips the object's own
     /// test (see [`LaneTest::BOXED`]). The slab test of
-    /// [`crate::math::Aabb::hit_interval`], in lanes.
+    /// [`crate::math::Aabb::hit_interval`] in lanes, the box's padding standing in for
+    /// its widening of the far distances.
     #[inline(always)]
     fn some_lane_enters(&self, rays: &RayWave, inv_dir: &[Lanes; 3], t_max: &Lanes) -> bool {
         let Some((min, max)) = self.bounds else { return true };
