@@ -114,12 +114,19 @@ impl Texture {
         if !self.is_filtered() || self.kind != TextureKind::Checker {
             return self.sample(uv, texels);
         }
-        // The box the two steps span, measured in cells.
-        let width = steps.map_or(Vec2::INFINITY, |[dx, dy]| (dx.abs() + dy.abs()) * self.cells);
+        // The footprint is the parallelogram the two steps span (half a step either way
+        // of the point). Along each axis its spread is the sum of the two steps' spreads,
+        // each uniform: the sum of two boxes, a trapezoid. Exact across any single edge,
+        // however the footprint is turned; where an edge of each axis falls inside,
+        // the product of the two axes' means stands for the mean of their product.
+        let Some([dx, dy]) = steps else {
+            return self.even * 0.5 + self.odd * 0.5;
+        };
+        let (across, down) = (dx.abs() * self.cells, dy.abs() * self.cells);
         let cell = uv * self.cells;
-        let sign = box_filtered_square_wave(cell.x, width.x) * box_filtered_square_wave(cell.y, width.y);
-        // sign = +1 on an even cell, −1 on an odd one; the average of the product of
-        // the two axes' waves is the product of their averages (the box is separable).
+        let sign = trapezoid_filtered_square_wave(cell.x, across.x, down.x)
+            * trapezoid_filtered_square_wave(cell.y, across.y, down.y);
+        // sign = +1 on an even cell, −1 on an odd one.
         self.even * (0.5 + 0.5 * sign) + self.odd * (0.5 - 0.5 * sign)
     }
 
@@ -167,6 +174,68 @@ fn modulo_two(x: f32) -> f32 {
 #[inline]
 fn modulo_one(x: f32) -> f32 {
     x - x.floor()
+}
+
+/// The mean of the square wave that is +1 on even cells `[2k, 2k + 1)` and −1 on odd
+/// ones, at `x + a + b` with `a` and `b` uniform over widths `wa` and `wb` about zero
+/// (a trapezoid of support `wa + wb`). A footprint within one cell is that cell's value;
+/// one across a single edge weighs the two cells by the trapezoid's distribution, which
+/// is well conditioned however narrow it is; a wider one is the difference of the
+/// wave's second integral across the footprint, taken within one period so that it
+/// keeps its precision far from the origin.
+fn trapezoid_filtered_square_wave(x: f32, wa: f32, wb: f32) -> f32 {
+    let cell_value = |cell: f32| if modulo_two(cell) == 0.0 { 1.0 } else { -1.0 };
+    let half = 0.5 * (wa + wb);
+    if half.is_nan() {
+        return cell_value(x.floor());
+    }
+    if half >= 1e4 {
+        return 0.0;
+    }
+    let (lo, hi) = ((x - half).floor(), (x + half).floor());
+    if lo == hi {
+        return cell_value(lo);
+    }
+    if half < 0.5 {
+        // One edge, at `hi`: the cell below it with the chance of landing below it.
+        let below = trapezoid_cdf(hi - x, wa, wb);
+        return cell_value(hi) * (1.0 - 2.0 * below);
+    }
+    let (long, short) = (wa.max(wb), wa.min(wb));
+    if short < 1e-2 * long {
+        // A trapezoid this steep is its long box to within a fraction of `short / long`.
+        return box_filtered_square_wave(x, long);
+    }
+    // The wave's second integral less its mean slope (x/2): periodic over two cells.
+    let periodic = |t: f32| {
+        let y = modulo_two(t);
+        if y <= 1.0 { 0.5 * y * (y - 1.0) } else { -0.5 * y * y + 1.5 * y - 1.0 }
+    };
+    let (outer, inner) = (half, 0.5 * (long - short));
+    let x = modulo_two(x);
+    let second_difference = periodic(x + outer) - periodic(x + inner) - periodic(x - inner) + periodic(x - outer);
+    (second_difference / (wa * wb)).clamp(-1.0, 1.0)
+}
+
+/// The chance that `a + b` (uniform over widths `wa` and `wb` about zero) is below `t`.
+fn trapezoid_cdf(t: f32, wa: f32, wb: f32) -> f32 {
+    let (long, short) = (wa.max(wb), wa.min(wb));
+    let (outer, inner) = (0.5 * (long + short), 0.5 * (long - short));
+    let below = if t <= -outer {
+        0.0
+    } else if t <= -inner {
+        // The rising ramp; empty when `short` is zero.
+        let rise = t + outer;
+        0.5 * rise * rise / (long * short)
+    } else if t <= inner {
+        0.5 * short / long + (t + inner) / long
+    } else if t < outer {
+        let fall = outer - t;
+        1.0 - 0.5 * fall * fall / (long * short)
+    } else {
+        1.0
+    };
+    below.clamp(0.0, 1.0)
 }
 
 /// The mean over `[x − w/2, x + w/2]` of the square wave that is +1 on even cells
@@ -274,6 +343,71 @@ mod tests {
             let exact = t.sample_over(uv, steps(du, dv), &[]);
             assert!((numeric - exact).abs().max_element() < 0.015, "uv {uv} box {du}×{dv}: {exact} vs {numeric}");
         }
+    }
+
+    #[test]
+    fn a_filtered_checker_is_the_exact_mean_over_a_turned_footprint_across_one_edge() {
+        // Sheared parallelograms, as a floor in perspective gives off the image's centre:
+        // across a single edge (of either axis) the trapezoid is exact, where the box
+        // around the parallelogram blurred the edge by the shear.
+        let t = checker(true);
+        let mut rng = crate::sampling::Rng::new(11);
+        let mut tested = 0;
+        while tested < 60 {
+            let uv = Vec2::new(rng.next_f32() * 6.0 - 3.0, rng.next_f32() * 6.0 - 3.0);
+            let mut random_step = || Vec2::new(rng.next_f32() - 0.5, rng.next_f32() - 0.5) * 0.4;
+            let (a, b) = (random_step(), random_step());
+            // In cells (two to a unit): the footprint's extent along each axis.
+            let extent = (a.abs() + b.abs()) * 2.0;
+            let edges = |centre: f32, extent: f32| ((centre + 0.5 * extent).floor() - (centre - 0.5 * extent).floor()) as i32;
+            let (edges_u, edges_v) = (edges(uv.x * 2.0, extent.x), edges(uv.y * 2.0, extent.y));
+            if edges_u + edges_v != 1 {
+                continue;
+            }
+            tested += 1;
+            let n = 400;
+            let mut sum = Vec3::ZERO;
+            for i in 0..n {
+                for j in 0..n {
+                    let (alpha, beta) = ((i as f32 + 0.5) / n as f32 - 0.5, (j as f32 + 0.5) / n as f32 - 0.5);
+                    sum += t.sample(uv + alpha * a + beta * b, &[]);
+                }
+            }
+            let numeric = sum / (n * n) as f32;
+            let exact = t.sample_over(uv, Some([a, b]), &[]);
+            assert!((numeric - exact).abs().max_element() < 4e-3, "uv {uv} steps {a} {b}: {exact} vs {numeric}");
+        }
+    }
+
+    #[test]
+    fn the_trapezoid_filter_is_its_distribution_and_keeps_its_precision_far_out() {
+        // Its distribution function is the two boxes' convolution, numerically.
+        let mut rng = crate::sampling::Rng::new(5);
+        for _ in 0..200 {
+            let (wa, wb, t) = (rng.next_f32() * 2.0, rng.next_f32() * 2.0, rng.next_f32() * 4.0 - 2.0);
+            let n = 300;
+            let below = (0..n * n)
+                .filter(|k| {
+                    let (i, j) = (k / n, k % n);
+                    let a = wa * ((i as f32 + 0.5) / n as f32 - 0.5);
+                    let b = wb * ((j as f32 + 0.5) / n as f32 - 0.5);
+                    a + b < t
+                })
+                .count() as f32
+                / (n * n) as f32;
+            let cdf = trapezoid_cdf(t, wa, wb);
+            assert!((cdf - below).abs() < 1e-2, "wa {wa} wb {wb} t {t}: {cdf} vs {below}");
+        }
+        // Wide footprints: the same mean at the origin and a million cells out (one
+        // period is 2 cells), and the mean over any box of one whole period is zero.
+        // (Positions in sixteenths, which f32 still holds a million cells out.)
+        for (x, wa, wb) in [(0.3125, 1.3, 0.7), (1.6875, 2.0, 0.9), (0.125, 0.6, 0.55)] {
+            let near = trapezoid_filtered_square_wave(x, wa, wb);
+            let far = trapezoid_filtered_square_wave(x + 1_000_000.0, wa, wb);
+            assert!((near - far).abs() < 2e-3, "{x}: {near} vs {far}");
+        }
+        assert!(trapezoid_filtered_square_wave(0.37, 2.0, 0.0).abs() < 1e-5);
+        assert!(trapezoid_filtered_square_wave(0.37, 2.0, 0.5).abs() < 1e-5);
     }
 
     #[test]

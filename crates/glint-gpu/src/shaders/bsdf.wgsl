@@ -114,6 +114,72 @@ fn box_filtered_square_wave(x: f32, w: f32) -> f32 {
     return clamp((integral_hi - integral_lo) / w, -1.0, 1.0);
 }
 
+// glint_core::texture::trapezoid_cdf: the chance that a + b (uniform over widths wa and
+// wb about zero) is below t.
+fn trapezoid_cdf(t: f32, wa: f32, wb: f32) -> f32 {
+    let long = max(wa, wb);
+    let short = min(wa, wb);
+    let outer = 0.5 * (long + short);
+    let inner = 0.5 * (long - short);
+    var below = 1.0;
+    if t <= -outer {
+        below = 0.0;
+    } else if t <= -inner {
+        let rise = t + outer;
+        below = 0.5 * rise * rise / (long * short);
+    } else if t <= inner {
+        below = 0.5 * short / long + (t + inner) / long;
+    } else if t < outer {
+        let fall = outer - t;
+        below = 1.0 - 0.5 * fall * fall / (long * short);
+    }
+    return clamp(below, 0.0, 1.0);
+}
+
+fn modulo_two(x: f32) -> f32 {
+    return x - 2.0 * floor(0.5 * x);
+}
+
+fn square_wave_cell(cell: f32) -> f32 {
+    return select(-1.0, 1.0, modulo_two(cell) == 0.0);
+}
+
+// The periodic part of the square wave's second integral (less its mean slope x/2).
+fn square_wave_second_integral(t: f32) -> f32 {
+    let y = modulo_two(t);
+    if y <= 1.0 {
+        return 0.5 * y * (y - 1.0);
+    }
+    return -0.5 * y * y + 1.5 * y - 1.0;
+}
+
+// glint_core::texture::trapezoid_filtered_square_wave: the mean of the wave at x + a + b,
+// a and b uniform over widths wa and wb about zero.
+fn trapezoid_filtered_square_wave(x: f32, wa: f32, wb: f32) -> f32 {
+    let half = 0.5 * (wa + wb);
+    if half >= 1e4 {
+        return 0.0;
+    }
+    let lo = floor(x - half);
+    let hi = floor(x + half);
+    if lo == hi {
+        return square_wave_cell(lo);
+    }
+    if half < 0.5 {
+        return square_wave_cell(hi) * (1.0 - 2.0 * trapezoid_cdf(hi - x, wa, wb));
+    }
+    let long = max(wa, wb);
+    let short = min(wa, wb);
+    if short < 1e-2 * long {
+        return box_filtered_square_wave(x, long);
+    }
+    let inner = 0.5 * (long - short);
+    let y = modulo_two(x);
+    let second_difference = square_wave_second_integral(y + half) - square_wave_second_integral(y + inner)
+        - square_wave_second_integral(y - inner) + square_wave_second_integral(y - half);
+    return clamp(second_difference / (wa * wb), -1.0, 1.0);
+}
+
 // glint_core::texture::Texture::sample_over: the texture averaged over the footprint whose
 // uv steps to the neighbouring pixels are `steps` (.xy across, .zw down); `bounded` false
 // for an unbounded footprint (the pattern's mean).
@@ -124,9 +190,11 @@ fn texture_sample_over(index: u32, uv: vec2<f32>, steps: vec4<f32>, bounded: boo
     }
     var sign = 0.0;
     if bounded {
-        let width = (abs(steps.xy) + abs(steps.zw)) * v2(t.cells);
+        let across = abs(steps.xy) * v2(t.cells);
+        let down = abs(steps.zw) * v2(t.cells);
         let cell = uv * v2(t.cells);
-        sign = box_filtered_square_wave(cell.x, width.x) * box_filtered_square_wave(cell.y, width.y);
+        sign = trapezoid_filtered_square_wave(cell.x, across.x, down.x)
+            * trapezoid_filtered_square_wave(cell.y, across.y, down.y);
     }
     return v3(t.even) * (0.5 + 0.5 * sign) + v3(t.odd) * (0.5 - 0.5 * sign);
 }
