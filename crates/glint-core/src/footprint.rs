@@ -34,6 +34,7 @@ pub fn footprint_scale(spp: u32) -> f32 {
 impl PixelSpacing {
     /// For `camera` on a `width`×`height` film, a footprint `scale` pixels across (see
     /// [`footprint_scale`]).
+    #[inline]
     pub fn new(camera: &Camera, width: u32, height: u32, scale: f32) -> Self {
         let m = camera.world_from_canonical;
         Self {
@@ -49,6 +50,7 @@ impl PixelSpacing {
     /// neighbouring pixels meet the plane through `p`, less `p`. `None` where the
     /// footprint is unbounded: `p` behind the eye, or a neighbouring ray parallel to the
     /// plane or leaving it (a floor at the horizon).
+    #[inline]
     pub fn surface_steps(&self, p: Vec3, n: Vec3) -> Option<[Vec3; 2]> {
         let d = p - self.eye;
         let along = d.dot(self.forward);

@@ -814,7 +814,10 @@ impl RenderScene {
 
     /// Texture `index` where a ray at `time` met `hit`, its uv scaled by `repeat`: the
     /// texture's mean over the pixel's footprint (`footprint_scale` pixels across) when it
-    /// is filtered, else its value at the point.
+    /// is filtered, else its value at the point. Always inlined, so that the filtered
+    /// lookup compiles into the AVX2 Whitted tile (on its own, built for any x86-64,
+    /// each `floor` in it is a library call).
+    #[inline(always)]
     pub fn texture_at_hit(&self, index: u32, hit: &Hit, repeat: Vec2, time: f32, footprint_scale: f32) -> Vec3 {
         let texture = &self.textures[index as usize];
         let uv = hit.uv * repeat;
@@ -828,6 +831,7 @@ impl RenderScene {
     /// The steps in uv from `hit` to where the neighbouring pixels see its surface (see
     /// [`crate::footprint`]), the pixels `footprint_scale` of a pixel apart; `None` where
     /// the footprint is unbounded.
+    #[inline]
     pub fn uv_steps(&self, hit: &Hit, time: f32, footprint_scale: f32) -> Option<[Vec2; 2]> {
         let s = &self.settings;
         let spacing = PixelSpacing::new(&self.camera, s.width, s.height, footprint_scale);

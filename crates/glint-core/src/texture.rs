@@ -110,6 +110,7 @@ impl Texture {
     /// The colour averaged over the pixel footprint at `uv`, whose steps to the
     /// neighbouring pixels are `steps` (in the same units as `uv`; `None`: unbounded, the
     /// pattern's mean). Unfiltered textures ignore the footprint.
+    #[inline(always)]
     pub fn sample_over(&self, uv: Vec2, steps: Option<[Vec2; 2]>, texels: &[Vec3]) -> Vec3 {
         if !self.is_filtered() || self.kind != TextureKind::Checker {
             return self.sample(uv, texels);
@@ -183,6 +184,7 @@ fn modulo_one(x: f32) -> f32 {
 /// is well conditioned however narrow it is; a wider one is the difference of the
 /// wave's second integral across the footprint, taken within one period so that it
 /// keeps its precision far from the origin.
+#[inline(always)]
 fn trapezoid_filtered_square_wave(x: f32, wa: f32, wb: f32) -> f32 {
     let cell_value = |cell: f32| if modulo_two(cell) == 0.0 { 1.0 } else { -1.0 };
     let half = 0.5 * (wa + wb);
@@ -218,6 +220,7 @@ fn trapezoid_filtered_square_wave(x: f32, wa: f32, wb: f32) -> f32 {
 }
 
 /// The chance that `a + b` (uniform over widths `wa` and `wb` about zero) is below `t`.
+#[inline]
 fn trapezoid_cdf(t: f32, wa: f32, wb: f32) -> f32 {
     let (long, short) = (wa.max(wb), wa.min(wb));
     let (outer, inner) = (0.5 * (long + short), 0.5 * (long - short));
@@ -242,6 +245,7 @@ fn trapezoid_cdf(t: f32, wa: f32, wb: f32) -> f32 {
 /// `[2k, 2k + 1)` and −1 on odd ones: the difference of its integral, a triangle wave,
 /// across the box. Point-sampled when the box is too narrow for `f32` to tell the ends
 /// apart, zero when it spans so many cells that the mean is lost in rounding.
+#[inline]
 fn box_filtered_square_wave(x: f32, w: f32) -> f32 {
     let point = if modulo_two(x.floor()) == 0.0 { 1.0 } else { -1.0 };
     if w.is_nan() || w <= 1e-4 * x.abs().max(1.0) {
@@ -359,7 +363,8 @@ mod tests {
             let (a, b) = (random_step(), random_step());
             // In cells (two to a unit): the footprint's extent along each axis.
             let extent = (a.abs() + b.abs()) * 2.0;
-            let edges = |centre: f32, extent: f32| ((centre + 0.5 * extent).floor() - (centre - 0.5 * extent).floor()) as i32;
+            let edges =
+                |centre: f32, extent: f32| ((centre + 0.5 * extent).floor() - (centre - 0.5 * extent).floor()) as i32;
             let (edges_u, edges_v) = (edges(uv.x * 2.0, extent.x), edges(uv.y * 2.0, extent.y));
             if edges_u + edges_v != 1 {
                 continue;
