@@ -129,7 +129,7 @@ echo "== glint with the checker filtered over each pixel's footprint"
 glint_run glint-filtered-reference "$out/whitted-filtered.glint" --samples 16 --pattern jittered >/dev/null
 echo "| glint settings, checker filtered | wall (s) | AA error (own converged image) | AA error (point-sampled converged image) |"
 echo "|---|---:|---:|---:|"
-for settings in "--samples 1" "--adaptive 1,4,0.1" "--adaptive 1,8,0.1" "--adaptive 1,8,0.05" "--adaptive 1,16,0.03" "--adaptive 2,8,0.04"; do
+for settings in "--samples 1" "--adaptive 1,4,0.3" "--adaptive 1,4,0.1" "--adaptive 1,8,0.05" "--adaptive 1,16,0.03" "--adaptive 2,8,0.04"; do
     # shellcheck disable=SC2086 # the settings are words
     read -r wall _ < <(glint_run glint-filtered "$out/whitted-filtered.glint" $settings)
     error=$(python3 "$aa_error" "$out/glint-filtered.ppm" "$out/glint-filtered-reference.ppm")

@@ -812,6 +812,20 @@ impl RenderScene {
         self.textures[index as usize].sample(uv, &self.texels)
     }
 
+    /// Whether adaptive sampling starts each pixel from a pilot sample at its centre, as
+    /// one sample a pixel takes it: for Whitted renders that start from one sample, where
+    /// textures are filtered over the footprint. A pixel that stops at its pilot then
+    /// averages its textures over the pixel itself, not over a pixel-sized box around a
+    /// random point in it. Without filtered textures the first samples stay random:
+    /// centred ones alias coherently, neighbours agree on the same wrong moiré, and the
+    /// pixels settle on it. Every backend follows this rule.
+    pub fn adaptive_pilot(&self) -> bool {
+        let s = &self.settings;
+        s.adaptive.is_some_and(|a| a.min_samples == 1)
+            && matches!(s.integrator, crate::desc::IntegratorDesc::Whitted)
+            && self.textures.iter().any(|t| t.is_filtered())
+    }
+
     /// Texture `index` where a ray at `time` met `hit`, its uv scaled by `repeat`: the
     /// texture's mean over the pixel's footprint (`footprint_scale` pixels across) when it
     /// is filtered, else its value at the point. Always inlined, so that the filtered

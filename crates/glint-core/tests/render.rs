@@ -584,6 +584,30 @@ fn adaptive_samples_narrow_the_footprint_as_their_count_grows() {
     assert_eq!(scales, [1.0, 0.5, 0.25, 0.125], "sample k as one of k + 1, at least an eighth");
 }
 
+#[test]
+fn adaptive_pixels_that_stop_at_one_sample_take_it_at_their_centre() {
+    // With a filtered texture, a Whitted pixel starts from a pilot at its centre,
+    // filtered over the whole pixel, as one sample a pixel takes it: where every pixel settles there, the image is the
+    // one-sample image bit for bit. Pixels that go on drop the pilot for their own
+    // stratified samples, at least four.
+    let one_sample = render_desc(&checkered_floor(true, 1));
+    let mut desc = checkered_floor(true, 1);
+    desc.settings.adaptive = Some(AdaptiveDesc { min_samples: 1, max_samples: 16, threshold: 10.0 });
+    assert_eq!(render_desc(&desc), one_sample);
+    desc.settings.adaptive = Some(AdaptiveDesc { min_samples: 1, max_samples: 16, threshold: 0.02 });
+    let scene = compile(&desc).expect("valid scene");
+    let (_, stats) = render(&scene, &|_, _| {}, &AtomicBool::new(false)).expect("renders");
+    let counts = &stats.samples_per_pixel;
+    assert!(counts.contains(&1) && counts.iter().any(|&n| n > 1), "some settle, some go on");
+    assert!(counts.iter().all(|&n| n == 1 || n >= 4), "a refined pixel takes at least four: {counts:?}");
+    // A point-sampled checker keeps random first samples, so that its aliasing shows
+    // as noise between neighbours and refines rather than settling as a coherent moiré.
+    let mut point_sampled = checkered_floor(false, 1);
+    let one_sample = render_desc(&point_sampled);
+    point_sampled.settings.adaptive = Some(AdaptiveDesc { min_samples: 1, max_samples: 16, threshold: 10.0 });
+    assert_ne!(render_desc(&point_sampled), one_sample);
+}
+
 /// A classic Whitted scene of seven analytic objects: a checkered plane, mirror, glass
 /// and matte spheres, a cylinder, a cone and a cube under two point lights, which the
 /// renderer traces in waves of eight rays.

@@ -272,7 +272,8 @@ pub struct Params {
     /// Adaptive sampling's standard-error threshold on display luminance.
     pub adaptive_threshold: f32,
     /// 1 in the adaptive round whose samples bring every pixel to the minimum: its
-    /// decision looks at the neighbours' means (film.wgsl's `adaptive_decide`).
+    /// decision looks at the neighbours' means (film.wgsl's `adaptive_decide`);
+    /// [`ADAPTIVE_PILOT`] when that round is each pixel's pilot at its centre.
     pub adaptive_first: u32,
     /// Float-array index of the superellipsoids' exponents: `e1`, `e2` each.
     pub superellipsoid_offset: u32,
@@ -297,6 +298,9 @@ pub struct Params {
     pub env_from_world: Mat4,
     pub world_from_env: Mat4,
 }
+
+/// [`Params::adaptive_first`] in a pilot round: each pixel's one sample at its centre.
+pub const ADAPTIVE_PILOT: u32 = 2;
 
 /// [`Params::integrator`] values.
 pub const INTEGRATOR_PATH: u32 = 0;

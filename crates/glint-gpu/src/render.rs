@@ -51,8 +51,14 @@ pub struct Progressive<'g> {
 /// Adaptive sampling's settings and the kernels of its rounds.
 struct AdaptiveKernels {
     settings: AdaptiveDesc,
+    /// Whether each pixel starts from a pilot at its centre
+    /// ([`RenderScene::adaptive_pilot`]).
+    pilot: bool,
     update: wgpu::ComputePipeline,
     decide: wgpu::ComputePipeline,
+    /// Resets the pixels that go on past their pilot, after the pilots of those that
+    /// stop there are splatted.
+    drop_pilots: wgpu::ComputePipeline,
 }
 
 impl<'g> Progressive<'g> {
@@ -108,8 +114,10 @@ impl<'g> Progressive<'g> {
             };
             let adaptive = scene.settings.adaptive.map(|settings| AdaptiveKernels {
                 settings,
+                pilot: scene.adaptive_pilot(),
                 update: kernels.pipeline(gpu, "adaptive_update", scene),
                 decide: kernels.pipeline(gpu, "adaptive_decide", scene),
+                drop_pilots: kernels.pipeline(gpu, "adaptive_drop_pilots", scene),
             });
             (kernels.pipeline(gpu, entry, scene), kernels.pipeline(gpu, "splat", scene), adaptive, bind_group)
         })?;
@@ -181,7 +189,8 @@ impl<'g> Progressive<'g> {
             p.instance_count as usize == scene.instances.len() && p.node_count as usize == scene.bvh.nodes.len();
         let same_film = (p.width, p.height, p.aovs)
             == (scene.settings.width, scene.settings.height, scene.settings.aovs as u32)
-            && self.adaptive.as_ref().map(|a| a.settings) == scene.settings.adaptive;
+            && self.adaptive.as_ref().map(|a| (a.settings, a.pilot))
+                == scene.settings.adaptive.map(|settings| (settings, scene.adaptive_pilot()));
         if !same_kernel || !same_scene || !same_film {
             return Ok(false);
         }
@@ -255,12 +264,21 @@ impl<'g> Progressive<'g> {
             }
             params.pass_samples = need.min(self.capacity);
             // Every pixel samples alike until they all reach the minimum.
-            params.adaptive_first = (taken < min && taken + params.pass_samples >= min) as u32;
+            let first = taken < min && taken + params.pass_samples >= min;
+            let adaptive = self.adaptive.as_ref().expect("checked above");
+            // A pilot round (its minimum is one) decides before it splats: only the
+            // pilots of the pixels that stop there reach the film.
+            let pilot = first && adaptive.pilot;
+            params.adaptive_first = if pilot { crate::records::ADAPTIVE_PILOT } else { first as u32 };
             taken += params.pass_samples;
             let tally_at = 4 * self.fault_words();
             self.gpu.queue.write_buffer(&self.faults, tally_at, bytemuck::cast_slice(&[0u32, 0]));
-            let adaptive = self.adaptive.as_ref().expect("checked above");
-            self.dispatch(&params, &[&self.trace, &self.splat, &adaptive.update, &adaptive.decide])?;
+            if pilot {
+                let kernels = [&self.trace, &adaptive.update, &adaptive.decide, &self.splat, &adaptive.drop_pilots];
+                self.dispatch(&params, &kernels)?;
+            } else {
+                self.dispatch(&params, &[&self.trace, &self.splat, &adaptive.update, &adaptive.decide])?;
+            }
             let tallies: Vec<u32> = read_buffer(self.gpu, &self.faults)?;
             let [sampling, most] = [tallies[tally_at as usize / 4], tallies[tally_at as usize / 4 + 1]];
             progress(pixels - sampling as usize, pixels);

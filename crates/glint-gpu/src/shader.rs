@@ -75,6 +75,7 @@ pub fn bindings() -> String {
 pub fn constants() -> String {
     use glint_core::light::LightKind;
     let values = [
+        ("ADAPTIVE_PILOT", records::ADAPTIVE_PILOT),
         ("INTEGRATOR_PATH", records::INTEGRATOR_PATH),
         ("INTEGRATOR_WHITTED", records::INTEGRATOR_WHITTED),
         ("FEATURE_SHADOWS", records::FEATURE_SHADOWS),

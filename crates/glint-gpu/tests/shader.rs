@@ -13,5 +13,14 @@ fn the_render_program_parses_and_validates() {
         panic!("{}", e.emit_to_string(&source));
     }
     let entries: Vec<_> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
-    assert_eq!(entries, ["trace_path", "trace_whitted", "splat", "adaptive_update", "adaptive_decide", "trace_rays"]);
+    let expected = [
+        "trace_path",
+        "trace_whitted",
+        "splat",
+        "adaptive_update",
+        "adaptive_decide",
+        "adaptive_drop_pilots",
+        "trace_rays",
+    ];
+    assert_eq!(entries, expected);
 }

@@ -227,6 +227,8 @@ fn checkers_filtered_over_the_pixel_footprint_match_the_cpu() {
     let differing = cpu_counts.iter().zip(&gpu_counts).filter(|(c, g)| c != g).count();
     assert!(differing <= cpu_counts.len() / 100, "{differing} pixels take other counts");
     assert!(cpu_counts.contains(&1) && cpu_counts.iter().any(|&n| n > 2), "flat pixels and edges both occur");
+    // Filtered textures: a pixel stops at its pilot or drops it for at least four.
+    assert!(gpu_counts.iter().all(|&n| n == 1 || n >= 4), "a pixel past its pilot takes four or more");
     check("whitted filtered checkers, adaptive", &scene, &gpu);
 }
 

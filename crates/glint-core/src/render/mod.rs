@@ -187,6 +187,13 @@ impl TileFilm<'_> {
             let filter = &self.scene.settings.filter;
             self.film.splat_with(filter, traced.fx, traced.fy, traced.value, Some(&traced.aov));
         } else {
+            self.count_if_non_finite(traced);
+        }
+    }
+
+    /// Records a sample whose value is not finite (and nothing else).
+    fn count_if_non_finite(&mut self, traced: &Traced) {
+        if !traced.value.is_finite() {
             self.non_finite.record(traced.culprit, (traced.fx as u32, traced.fy as u32));
         }
     }
@@ -242,13 +249,24 @@ fn adaptive_tile(
     let at = |px: u32, py: u32| (py - ry0) as usize * ring_width + (px - rx0) as usize;
     let mut spreads = vec![Spread::default(); ring_width * (ry1 - ry0) as usize];
     let min = adaptive.min_samples;
+    // A pixel that starts from a pilot at its centre ([`RenderScene::adaptive_pilot`])
+    // keeps it only where it settles there; one that goes on drops it and takes its own
+    // stratified samples, at least four.
+    let pilot = scene.adaptive_pilot();
+    let first_sampler =
+        if pilot { PixelSampler { pattern: SamplePattern::Grid, per_axis: 1, ..sampler } } else { sampler };
+    let mut pilots = Vec::new();
     let first: Vec<(u32, u32, u32)> =
         (ry0..ry1).flat_map(|py| (rx0..rx1).flat_map(move |px| (0..min).map(move |index| (px, py, index)))).collect();
-    trace_samples(scene, &sampler, &first, counters, &mut |(px, py, _), traced| {
-        if (x0..x1).contains(&px) && (y0..y1).contains(&py) {
-            film.splat(&traced);
-        }
+    trace_samples(scene, &first_sampler, &first, counters, &mut |(px, py, _), traced| {
         spreads[at(px, py)].add(display_luminance(traced.value));
+        if (x0..x1).contains(&px) && (y0..y1).contains(&py) {
+            if pilot {
+                pilots.push(traced);
+            } else {
+                film.splat(&traced);
+            }
+        }
     });
     // Each of the tile's pixels: its samples' spread, the count it goes on to, and
     // whether one sample that its neighbours agree with settles it.
@@ -266,10 +284,24 @@ fn adaptive_tile(
             // One sample tells nothing of a pixel's spread: where its neighbours agree
             // with it, the pixel is taken to be flat and stops (POV-Ray's anti-aliasing
             // supersamples only pixels that differ from their neighbours, too).
-            let settled = spread.count == 1 && contrast <= adaptive.threshold;
+            let settled = spread.count == 1 && (contrast <= adaptive.threshold || adaptive.max_samples == 1);
             Refined { pixel: (px, py), spread, target: forced.min(adaptive.max_samples), settled, done: false }
         })
         .collect();
+    if pilot {
+        // The first round went in the tile's pixel order, as `pixels` is.
+        for (p, traced) in pixels.iter_mut().zip(&pilots) {
+            if p.settled {
+                film.splat(traced);
+            } else {
+                // Off the film, but a NaN it brought is still counted, as every
+                // backend counts every sample it traced.
+                film.count_if_non_finite(traced);
+                p.spread = Spread::default();
+                p.target = p.target.max(4).min(adaptive.max_samples);
+            }
+        }
+    }
     // In rounds, so each round's samples trace together: every pixel not done takes
     // its samples up to its target, then stops or doubles the target.
     let mut requests = Vec::new();

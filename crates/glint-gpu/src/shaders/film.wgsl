@@ -62,7 +62,7 @@ fn filter_eval(dx: f32, dy: f32) -> f32 {
 // pixel pattern, or the path sampler's first two numbers.
 fn film_position(px: u32, py: u32, index: u32) -> vec2<f32> {
     if params.integrator == INTEGRATOR_WHITTED {
-        return vec2<f32>(f32(px), f32(py)) + pixel_offset(px, py, index);
+        return vec2<f32>(f32(px), f32(py)) + whitted_offset(px, py, index);
     }
     var sampler = path_sampler(params.sampler == 0u, px, py, index, params.seed);
     return vec2<f32>(f32(px), f32(py)) + next_2d(&sampler);
@@ -158,6 +158,11 @@ fn splat(@builtin(global_invocation_id) id: vec3<u32>) {
         }
         for (var qx = i32(id.x) - reach; qx <= i32(id.x) + reach; qx += 1) {
             if qx < 0 || qx >= i32(params.width) {
+                continue;
+            }
+            // A pilot round splats after its decision, and only the pilots of the pixels
+            // that stop there (a settled pixel's m2 is negative).
+            if params.adaptive_first == ADAPTIVE_PILOT && !(adaptive_state(u32(qx), u32(qy)).m2 < 0.0) {
                 continue;
             }
             let base = pass_base(u32(qx), u32(qy));
@@ -291,7 +296,7 @@ fn adaptive_decide(@builtin(global_invocation_id) id: vec3<u32>) {
             if contrast > 2.0 * params.adaptive_threshold {
                 target_count = max(min(4u * params.adaptive_min, params.adaptive_max), s.count);
             }
-            if s.count == 1u && contrast <= params.adaptive_threshold {
+            if s.count == 1u && (contrast <= params.adaptive_threshold || params.adaptive_max == 1u) {
                 settled = true;
                 accum[adaptive_slot(id.x, id.y)].z = -1.0;
             }
@@ -308,11 +313,32 @@ fn adaptive_decide(@builtin(global_invocation_id) id: vec3<u32>) {
             }
         }
     }
+    // A pixel that goes on past its pilot drops it (adaptive_drop_pilots) and takes its
+    // own samples from the first, at least four.
+    var after = s.count;
+    if params.adaptive_first == ADAPTIVE_PILOT && !settled {
+        target_count = min(4u, params.adaptive_max);
+        after = 0u;
+    }
     // Only the target (and a settled pixel's m2) change: the neighbours read this
     // pixel's mean meanwhile.
     accum[adaptive_slot(id.x, id.y)].w = bitcast<f32>(target_count);
-    if target_count > s.count {
+    if target_count > after {
         atomicAdd(&faults[round_tally()], 1u);
-        atomicMax(&faults[round_tally() + 1u], target_count - s.count);
+        atomicMax(&faults[round_tally() + 1u], target_count - after);
     }
+}
+
+// After a pilot round's splat: the pixels that go on forget their pilot, so that their
+// own samples start from the first (glint_core::render::adaptive_tile).
+@compute @workgroup_size(8, 8, 1)
+fn adaptive_drop_pilots(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= params.width || id.y >= params.height {
+        return;
+    }
+    let s = adaptive_state(id.x, id.y);
+    if s.m2 < 0.0 {
+        return;
+    }
+    accum[adaptive_slot(id.x, id.y)] = vec4<f32>(bitcast<f32>(0u), 0.0, 0.0, bitcast<f32>(s.target_count));
 }

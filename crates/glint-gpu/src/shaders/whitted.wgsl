@@ -40,6 +40,15 @@ fn rng_next_f32(state: ptr<function, u32>) -> f32 {
 
 // ---- glint_core::sampling::pattern ----
 
+// Where sample `index` of pixel (px, py) lies in it: the pixel pattern's point, or the
+// centre in an adaptive pilot round (glint_core::render::adaptive_tile).
+fn whitted_offset(px: u32, py: u32, index: u32) -> vec2<f32> {
+    if params.adaptive_first == ADAPTIVE_PILOT {
+        return vec2<f32>(0.5);
+    }
+    return pixel_offset(px, py, index);
+}
+
 // PixelSampler::offset: sample `index` of pixel (px, py) as an offset in [0, 1]² from
 // the pixel's top-left corner.
 fn pixel_offset(px: u32, py: u32, index: u32) -> vec2<f32> {
@@ -489,7 +498,7 @@ fn whitted_radiance(camera: Ray, rng: ptr<function, u32>) -> vec3<f32> {
 // seed) whose first two numbers place the ray on the lens.
 fn whitted_sample(px: u32, py: u32, index: u32) -> vec3<f32> {
     sample_footprint_scale = sample_footprint(index);
-    let offset = pixel_offset(px, py, index);
+    let offset = whitted_offset(px, py, index);
     var rng = rng_new(hash4(px, py, index, params.seed));
     let lx = rng_next_f32(&rng);
     let ly = rng_next_f32(&rng);
