@@ -186,22 +186,21 @@ fn modulo_one(x: f32) -> f32 {
 /// keeps its precision far from the origin.
 #[inline(always)]
 fn trapezoid_filtered_square_wave(x: f32, wa: f32, wb: f32) -> f32 {
-    let cell_value = |cell: f32| if modulo_two(cell) == 0.0 { 1.0 } else { -1.0 };
     let half = 0.5 * (wa + wb);
     if half.is_nan() {
-        return cell_value(x.floor());
+        return square_wave_on(x.floor());
     }
     if half >= 1e4 {
         return 0.0;
     }
     let (lo, hi) = ((x - half).floor(), (x + half).floor());
     if lo == hi {
-        return cell_value(lo);
+        return square_wave_on(lo);
     }
     if half < 0.5 {
         // One edge, at `hi`: the cell below it with the chance of landing below it.
         let below = trapezoid_cdf(hi - x, wa, wb);
-        return cell_value(hi) * (1.0 - 2.0 * below);
+        return square_wave_on(hi) * (1.0 - 2.0 * below);
     }
     let (long, short) = (wa.max(wb), wa.min(wb));
     if short < 1e-2 * long {
@@ -217,6 +216,12 @@ fn trapezoid_filtered_square_wave(x: f32, wa: f32, wb: f32) -> f32 {
     let x = modulo_two(x);
     let second_difference = periodic(x + outer) - periodic(x + inner) - periodic(x - inner) + periodic(x - outer);
     (second_difference / (wa * wb)).clamp(-1.0, 1.0)
+}
+
+/// The square wave on cell `cell` (an integer): +1 on even cells, −1 on odd ones.
+#[inline]
+fn square_wave_on(cell: f32) -> f32 {
+    if modulo_two(cell) == 0.0 { 1.0 } else { -1.0 }
 }
 
 /// The chance that `a + b` (uniform over widths `wa` and `wb` about zero) is below `t`.
@@ -247,7 +252,7 @@ fn trapezoid_cdf(t: f32, wa: f32, wb: f32) -> f32 {
 /// apart, zero when it spans so many cells that the mean is lost in rounding.
 #[inline]
 fn box_filtered_square_wave(x: f32, w: f32) -> f32 {
-    let point = if modulo_two(x.floor()) == 0.0 { 1.0 } else { -1.0 };
+    let point = square_wave_on(x.floor());
     if w.is_nan() || w <= 1e-4 * x.abs().max(1.0) {
         return point;
     }

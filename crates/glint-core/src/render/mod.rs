@@ -289,18 +289,7 @@ fn adaptive_tile(
         })
         .collect();
     if pilot {
-        // The first round went in the tile's pixel order, as `pixels` is.
-        for (p, traced) in pixels.iter_mut().zip(&pilots) {
-            if p.settled {
-                film.splat(traced);
-            } else {
-                // Off the film, but a NaN it brought is still counted, as every
-                // backend counts every sample it traced.
-                film.count_if_non_finite(traced);
-                p.spread = Spread::default();
-                p.target = p.target.max(4).min(adaptive.max_samples);
-            }
-        }
+        keep_or_drop_pilots(&mut pixels, &pilots, film, adaptive.max_samples);
     }
     // In rounds, so each round's samples trace together: every pixel not done takes
     // its samples up to its target, then stops or doubles the target.
@@ -325,6 +314,22 @@ fn adaptive_tile(
         }
         if !any_left {
             return pixels.iter().map(|p| p.spread.count).collect();
+        }
+    }
+}
+
+/// Splats the pilots of the pixels that settle on them (`pilots` in the order of
+/// `pixels`); the others drop theirs and go on to at least four samples of their own.
+fn keep_or_drop_pilots(pixels: &mut [Refined], pilots: &[Traced], film: &mut TileFilm, max_samples: u32) {
+    for (p, traced) in pixels.iter_mut().zip(pilots) {
+        if p.settled {
+            film.splat(traced);
+        } else {
+            // Off the film, but a NaN it brought is still counted, as every backend
+            // counts every sample it traced.
+            film.count_if_non_finite(traced);
+            p.spread = Spread::default();
+            p.target = p.target.max(4).min(max_samples);
         }
     }
 }

@@ -99,8 +99,7 @@ fn texture_is_filtered(index: u32) -> bool {
 // glint_core::texture::box_filtered_square_wave: the mean over [x − w/2, x + w/2] of the
 // wave that is +1 on even cells and −1 on odd ones.
 fn box_filtered_square_wave(x: f32, w: f32) -> f32 {
-    let cell = floor(x);
-    let point = select(-1.0, 1.0, cell - 2.0 * floor(cell / 2.0) == 0.0);
+    let point = square_wave_cell(floor(x));
     if w <= 1e-4 * max(abs(x), 1.0) {
         return point;
     }
