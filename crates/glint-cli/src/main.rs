@@ -530,7 +530,8 @@ fn render_scene_to(args: &RenderArgs, mut desc: SceneDesc, output: &Path, cancel
     }
     let (image, stats) = result.map_err(|RenderError::Cancelled| Failure::Cancelled)?;
     let traced = start.elapsed().as_secs_f64();
-    write_outputs(args, (output, format, transfer), &image, &stats)?;
+    // On the render's pool: encoding runs on the threads asked for.
+    pool.install(|| write_outputs(args, (output, format, transfer), &image, &stats))?;
     let seconds = start.elapsed().as_secs_f64();
     if let Some(checkpointer) = &checkpointer {
         checkpointer.remove();
@@ -538,7 +539,8 @@ fn render_scene_to(args: &RenderArgs, mut desc: SceneDesc, output: &Path, cancel
     report_non_finite(&stats.non_finite, Some((&scene, &desc)));
     if !args.quiet {
         let (w, h) = (scene.settings.width, scene.settings.height);
-        let mean_spp = stats.samples_per_pixel.iter().map(|&c| c as f64).sum::<f64>() / (w as f64 * h as f64);
+        let mean_spp =
+            stats.samples_per_pixel.iter().map(|&c| u64::from(c)).sum::<u64>() as f64 / (w as f64 * h as f64);
         eprintln!(
             "wrote {} ({w}x{h}, {:.1} spp) in {seconds:.2} s (traced in {traced:.3} s) on {} threads: {} rays, \
              {:.2} Mrays/s{}",

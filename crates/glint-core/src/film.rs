@@ -214,14 +214,28 @@ impl Image {
         self.pixels[(y * self.width + x) as usize]
     }
 
-    /// 8-bit values, RGB interleaved, encoded by `transfer`.
+    /// 8-bit values, RGB interleaved, encoded by `transfer`: in bands on the current
+    /// rayon pool, as it is the last step between a render and its file.
     pub fn encode8(&self, transfer: Transfer) -> Vec<u8> {
-        let values = self.pixels.iter().flat_map(|p| p.to_array());
         match transfer {
             // By table: the same bytes as through `linear_to_srgb`, several times faster.
-            Transfer::Srgb => values.map(srgb8::encoder()).collect(),
-            Transfer::Identity => values.map(|c| (clamp_unit(c) * 255.0 + 0.5) as u8).collect(),
+            Transfer::Srgb => self.encode8_with(srgb8::encoder()),
+            Transfer::Identity => self.encode8_with(|c| (clamp_unit(c) * 255.0 + 0.5) as u8),
         }
+    }
+
+    /// Each channel through `encode`, into a buffer sized once (collecting the
+    /// channels' iterator grew it as it went).
+    fn encode8_with(&self, encode: impl Fn(f32) -> u8 + Sync) -> Vec<u8> {
+        use rayon::prelude::*;
+        const BAND: usize = 16 * 1024;
+        let mut bytes = vec![0; 3 * self.pixels.len()];
+        bytes.par_chunks_mut(3 * BAND).zip(self.pixels.par_chunks(BAND)).for_each(|(out, pixels)| {
+            for (rgb, p) in out.chunks_exact_mut(3).zip(pixels) {
+                rgb.copy_from_slice(&[encode(p.x), encode(p.y), encode(p.z)]);
+            }
+        });
+        bytes
     }
 
     /// 16-bit values, RGB interleaved, encoded by `transfer`.

@@ -701,7 +701,12 @@ impl RenderScene {
         let inst = &self.instances[index as usize];
         let xf = self.transform_at(inst, ray.time);
         let material = inst.shape.hit_material(&self.shape_tables, hit).unwrap_or(inst.material);
-        let surface = inst.shape.surface_with(&self.shape_tables, local, hit);
+        let surface = match inst.shape.kind {
+            // The textured floor, inlined: through the shape dispatch, its surface came
+            // back through memory, and the loads that read it stalled.
+            ShapeKind::Plane => crate::shape::Plane.surface(local, hit),
+            _ => inst.shape.surface_with(&self.shape_tables, local, hit),
+        };
         let normal = xf.normal_to_world(surface.normal).normalize_or(Vec3::Y);
         let point = xf.point_to_world(surface.point);
         Hit {
@@ -867,21 +872,26 @@ impl RenderScene {
             let steps = steps.map(solve);
             return steps.iter().all(|d| d.is_finite()).then_some(steps);
         }
-        // Analytic shapes give uv from the point (and the part of the surface), so the
-        // uv at each neighbour's point on the tangent plane is the shape's own answer.
+        if inst.shape.kind == ShapeKind::Plane {
+            // The plane's uv is its object-space point's (x, −z): linear in the point, so
+            // a step's uv is the step's own, carried into object space.
+            let uv_of = |step: Vec3| {
+                let local = xf.object_from_world.transform_vector3(step);
+                Vec2::new(local.x, -local.z)
+            };
+            let steps = steps.map(uv_of);
+            return steps.iter().all(|d| d.is_finite()).then_some(steps);
+        }
+        // Other analytic shapes give uv from the point (and the part of the surface), so
+        // the uv at each neighbour's point on the tangent plane is the shape's own answer.
         let uv_at = |step: Vec3| {
             let local = xf.ray_to_object(&Ray::new(hit.point + step, -hit.normal));
             let at = crate::shape::ShapeHit { t: 0.0, part: hit.part };
-            match inst.shape.kind {
-                // The textured floor, inlined: through the shape dispatch, the surface
-                // came back through memory and stalled the loads that read its uv.
-                ShapeKind::Plane => crate::shape::Plane.surface(&local, at).uv,
-                _ => inst.shape.surface_with(&self.shape_tables, &local, at).uv,
-            }
+            inst.shape.surface_with(&self.shape_tables, &local, at).uv
         };
         // Bounded shapes' uvs wrap at a seam (a sphere's u from 1 to 0): the step across
-        // it is the short way round. The plane's uvs run on unbounded.
-        let unwrapped = |d: Vec2| if inst.shape.kind == ShapeKind::Plane { d } else { d - d.round() };
+        // it is the short way round.
+        let unwrapped = |d: Vec2| d - d.round();
         let steps = steps.map(|step| unwrapped(uv_at(step) - hit.uv));
         steps.iter().all(|d| d.is_finite()).then_some(steps)
     }

@@ -113,7 +113,9 @@ fn encode(image: &Image, tmp: &Path, format: OutputFormat, transfer: Transfer) -
             let mut out = BufWriter::new(file);
             write!(out, "P6\n{w} {h}\n255\n").map_err(io_err)?;
             out.write_all(&image.encode8(transfer)).map_err(io_err)?;
-            out.into_inner().map_err(|e| io_err(e.into_error()))?.sync_all().map_err(io_err)
+            // Flushed, not synced: like the other formats, an image is replaced whole by
+            // the rename, and a crash at worst loses it (checkpoints are what is synced).
+            out.flush().map_err(io_err)
         }
     }
 }

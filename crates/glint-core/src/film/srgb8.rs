@@ -33,7 +33,18 @@ fn tables() -> &'static Tables {
         for (code, t) in threshold.iter_mut().enumerate().take(256) {
             *t = first_value_reaching(code as u8);
         }
-        let base = (0..BUCKETS).map(|b| reference(f32::from_bits((b as u32) << 16))).collect();
+        // A bucket's code is that of its first value: the last step at or below it
+        // (the steps rise with the value), found without a `powf` per bucket.
+        let mut code = 0;
+        let base = (0..BUCKETS)
+            .map(|b| {
+                let start = f32::from_bits((b as u32) << 16);
+                while code < 255 && threshold[code + 1] <= start {
+                    code += 1;
+                }
+                code as u8
+            })
+            .collect();
         Tables { base, threshold }
     })
 }

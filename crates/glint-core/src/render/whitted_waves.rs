@@ -154,8 +154,10 @@ fn trace_batch(
 ) {
     let mut wave = Vec::with_capacity(WAVE);
     while !rays.is_empty() {
+        // The last rays on the stack, the last first, moved in one copy.
+        let from = rays.len().saturating_sub(WAVE);
         wave.clear();
-        wave.extend((0..WAVE).map_while(|_| rays.pop()));
+        wave.extend(rays.drain(from..).rev());
         let mut lanes = RayWave::default();
         for (lane, pending) in wave.iter().enumerate() {
             lanes.set(lane, &pending.ray, f32::INFINITY, false);
@@ -228,16 +230,18 @@ fn resolve_shadows(scene: &RenderScene, few: &FewObjects, samples: &mut [Sample]
     }
     // Transparent occluders filter the light: each ray goes on past the transparent
     // surfaces it meets, in waves, until it reaches its light or an opaque surface.
-    let mut crossings: Vec<Crossing> = shadows
-        .iter()
-        .map(|shadow| Crossing { shadow, ray: shadow.ray, t_left: shadow.t_max, filter: Vec3::ONE })
-        .collect();
+    // The rays still going are packed at the front of a wave-sized array, not a vector,
+    // so the waves allocate nothing.
+    let mut crossings = [None; WAVE];
+    for (slot, shadow) in crossings.iter_mut().zip(shadows) {
+        *slot = Some(Crossing { shadow, ray: shadow.ray, t_left: shadow.t_max, filter: Vec3::ONE });
+    }
     let mut hits = few.trace(&lanes);
     // The bound only guards against pathological scenes, as in `transmittance`.
     for _ in 0..64 {
-        let mut next = Vec::with_capacity(crossings.len());
+        let (mut next, mut going) = ([None; WAVE], 0);
         let mut lanes = RayWave::default();
-        for (lane, crossing) in crossings.iter().enumerate() {
+        for (lane, crossing) in crossings.iter().map_while(|c| c.as_ref()).enumerate() {
             let object = hits.object[lane];
             if object == NO_OBJECT {
                 add(crossing.shadow, crossing.filter);
@@ -249,10 +253,11 @@ fn resolve_shadows(scene: &RenderScene, few: &FewObjects, samples: &mut [Sample]
                 continue;
             }
             let beyond = crossing.past_surface(scene, &hits, lane, filter);
-            lanes.set(next.len(), &beyond.ray, beyond.t_left, true);
-            next.push(beyond);
+            lanes.set(going, &beyond.ray, beyond.t_left, true);
+            next[going] = Some(beyond);
+            going += 1;
         }
-        if next.is_empty() {
+        if going == 0 {
             return;
         }
         hits = few.trace(&lanes);
@@ -262,6 +267,7 @@ fn resolve_shadows(scene: &RenderScene, few: &FewObjects, samples: &mut [Sample]
 
 /// A shadow ray on its way through transparent surfaces: what is left of its segment
 /// and the filter of the surfaces crossed so far.
+#[derive(Clone, Copy)]
 struct Crossing<'a> {
     shadow: &'a PendingShadow,
     ray: Ray,
