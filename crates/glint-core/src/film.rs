@@ -46,7 +46,7 @@ pub struct AovImages {
 impl FilmTile {
     pub fn new(x0: u32, y0: u32, width: u32, height: u32) -> Self {
         let n = width as usize * height as usize;
-        Self { x0, y0, width, height, sums: vec![Vec3::ZERO; n], weights: vec![0.0; n], aov_sums: Vec::new() }
+        Self { x0, y0, width, height, sums: bytemuck::zeroed_vec(n), weights: vec![0.0; n], aov_sums: Vec::new() }
     }
 
     /// A film that also accumulates [`Aov`]s.
@@ -134,18 +134,39 @@ impl FilmTile {
 
     /// Adds another rectangle's sums into this one (the parts that overlap).
     pub fn merge(&mut self, other: &FilmTile) {
-        for y in other.y0.max(self.y0)..(other.y0 + other.height).min(self.y0 + self.height) {
-            for x in other.x0.max(self.x0)..(other.x0 + other.width).min(self.x0 + self.width) {
-                let i = ((y - self.y0) * self.width + (x - self.x0)) as usize;
-                let j = ((y - other.y0) * other.width + (x - other.x0)) as usize;
-                self.sums[i] += other.sums[j];
-                self.weights[i] += other.weights[j];
-                if !self.aov_sums.is_empty() && !other.aov_sums.is_empty() {
-                    for (sum, add) in self.aov_sums[i].iter_mut().zip(other.aov_sums[j]) {
-                        *sum += add;
-                    }
+        let (x_lo, x_hi) = (other.x0.max(self.x0), (other.x0 + other.width).min(self.x0 + self.width));
+        let (y_lo, y_hi) = (other.y0.max(self.y0), (other.y0 + other.height).min(self.y0 + self.height));
+        if x_lo >= x_hi {
+            return;
+        }
+        let n = (x_hi - x_lo) as usize;
+        let aovs = !self.aov_sums.is_empty() && !other.aov_sums.is_empty();
+        // Row by row, slice against slice: the loops compile to vector adds.
+        for y in y_lo..y_hi {
+            let i = ((y - self.y0) * self.width + (x_lo - self.x0)) as usize;
+            let j = ((y - other.y0) * other.width + (x_lo - other.x0)) as usize;
+            add_all(&mut self.sums[i..i + n], &other.sums[j..j + n]);
+            add_all(&mut self.weights[i..i + n], &other.weights[j..j + n]);
+            if aovs {
+                for (sums, adds) in self.aov_sums[i..i + n].iter_mut().zip(&other.aov_sums[j..j + n]) {
+                    add_all(sums, adds);
                 }
             }
+        }
+    }
+
+    /// This film, emptied and reshaped to the rectangle (`x0`, `y0`, `width`, `height`),
+    /// its memory kept: a merge that fills one band after another reuses one film.
+    pub fn reset(&mut self, x0: u32, y0: u32, width: u32, height: u32) {
+        let n = width as usize * height as usize;
+        (self.x0, self.y0, self.width, self.height) = (x0, y0, width, height);
+        self.sums.clear();
+        self.sums.resize(n, Vec3::ZERO);
+        self.weights.clear();
+        self.weights.resize(n, 0.0);
+        if !self.aov_sums.is_empty() {
+            self.aov_sums.clear();
+            self.aov_sums.resize(n, [Vec3::ZERO; 3]);
         }
     }
 
@@ -207,7 +228,9 @@ pub struct Image {
 
 impl Image {
     pub fn new(width: u32, height: u32) -> Self {
-        Self { width, height, pixels: vec![Vec3::ZERO; width as usize * height as usize] }
+        // Zeroed by the allocator: a big image comes as fresh zero pages, not written
+        // through first (`vec![Vec3::ZERO; n]` stores each pixel).
+        Self { width, height, pixels: bytemuck::zeroed_vec(width as usize * height as usize) }
     }
 
     pub fn get(&self, x: u32, y: u32) -> Vec3 {
@@ -259,6 +282,13 @@ impl Image {
     }
 }
 
+/// `sums[k] += adds[k]` for each `k`, in order.
+fn add_all<T: Copy + std::ops::AddAssign>(sums: &mut [T], adds: &[T]) {
+    for (sum, &add) in sums.iter_mut().zip(adds) {
+        *sum += add;
+    }
+}
+
 /// Clamps to [0, 1]; NaN maps to 0.
 pub fn clamp_unit(c: f32) -> f32 {
     if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) }
@@ -279,6 +309,32 @@ pub fn srgb_to_linear(c: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_merge_adds_only_the_overlap_and_a_reset_film_merges_as_a_fresh_one() {
+        let filter = Filter::new(FilterKind::Box, 0.5).unwrap();
+        let mut a = FilmTile::new(2, 1, 3, 2);
+        a.splat(&filter, 2.5, 1.5, Vec3::ONE);
+        a.splat(&filter, 4.5, 2.5, Vec3::splat(2.0));
+        let mut b = FilmTile::new(3, 2, 4, 3);
+        b.splat(&filter, 4.5, 2.5, Vec3::splat(4.0));
+        b.splat(&filter, 6.5, 4.5, Vec3::splat(8.0));
+        let merged = |film: &mut FilmTile| {
+            film.merge(&a);
+            film.merge(&b);
+            film.resolve()
+        };
+        let fresh = merged(&mut FilmTile::new(0, 0, 6, 4));
+        // Pixel (4, 2) has a sample from each; (6, 4) lies outside the film; (2, 1) has
+        // only a's.
+        assert_eq!(fresh.get(4, 2), Vec3::splat(3.0));
+        assert_eq!(fresh.get(2, 1), Vec3::ONE);
+        assert_eq!(fresh.pixels.iter().filter(|p| **p != Vec3::ZERO).count(), 2);
+        let mut reused = FilmTile::new(1, 1, 9, 9);
+        reused.splat(&filter, 4.5, 2.5, Vec3::splat(100.0));
+        reused.reset(0, 0, 6, 4);
+        assert_eq!(merged(&mut reused), fresh);
+    }
 
     #[test]
     fn srgb_round_trips_and_clamps() {

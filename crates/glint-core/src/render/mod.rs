@@ -108,36 +108,54 @@ fn render_tiles(
 fn merge_tiles<'a>(scene: &RenderScene, tiles: impl Iterator<Item = &'a FinishedTile>) -> (Image, RenderStats) {
     let (width, height) = (scene.settings.width, scene.settings.height);
     let tiles: Vec<&FinishedTile> = tiles.collect();
-    let mut stats = RenderStats { samples_per_pixel: vec![0; (width * height) as usize], ..RenderStats::default() };
+    let mut stats = RenderStats::default();
     for tile in &tiles {
         stats.rays += tile.rays;
         stats.non_finite.merge(&tile.non_finite);
-        let (x0, y0, x1, _) = tile.bounds;
-        for (row, counts) in tile.samples.chunks((x1 - x0) as usize).enumerate() {
-            let start = ((y0 + row as u32) * width + x0) as usize;
-            stats.samples_per_pixel[start..start + counts.len()].copy_from_slice(counts);
-        }
     }
     let mut image = Image::new(width, height);
+    let mut counts = vec![0; (width * height) as usize];
     let band_rows = TILE_SIZE as usize;
+    let band_len = (width as usize * band_rows).max(1);
     let band_aovs: Vec<Option<AovImages>> = image
         .pixels
-        .par_chunks_mut((width as usize * band_rows).max(1))
+        .par_chunks_mut(band_len)
+        .zip(counts.par_chunks_mut(band_len))
         .enumerate()
-        .map(|(band, pixels)| {
-            let y0 = (band * band_rows) as u32;
-            let rows = (pixels.len() / width as usize) as u32;
-            let mut film = new_film(scene, 0, y0, width, rows);
-            let overlaps = |t: &&&FinishedTile| t.film.y0 < y0 + rows && t.film.y0 + t.film.height > y0;
-            for tile in tiles.iter().filter(overlaps) {
-                film.merge(&tile.film);
-            }
-            film.resolve_into(pixels);
-            film.resolve_aovs()
-        })
+        // One film per worker, reset for each band it merges.
+        .map_init(
+            || new_film(scene, 0, 0, 0, 0),
+            |film, (band, (pixels, counts))| {
+                let y0 = (band * band_rows) as u32;
+                let rows = (pixels.len() / width as usize) as u32;
+                film.reset(0, y0, width, rows);
+                let overlaps = |t: &&&FinishedTile| t.film.y0 < y0 + rows && t.film.y0 + t.film.height > y0;
+                for tile in tiles.iter().filter(overlaps) {
+                    film.merge(&tile.film);
+                    copy_sample_counts(tile, (y0, y0 + rows), width, counts);
+                }
+                film.resolve_into(pixels);
+                film.resolve_aovs()
+            },
+        )
         .collect();
     stats.aovs = AovImages::stacked(band_aovs);
+    stats.samples_per_pixel = counts;
     (image, stats)
+}
+
+/// The sample counts of `tile`'s rows within `rows` into `counts`, the counts of those
+/// rows of an image `width` pixels wide.
+fn copy_sample_counts(tile: &FinishedTile, rows: (u32, u32), width: u32, counts: &mut [u32]) {
+    let (x0, y0, x1, _) = tile.bounds;
+    let tile_width = (x1 - x0) as usize;
+    for (row, row_counts) in tile.samples.chunks(tile_width.max(1)).enumerate() {
+        let y = y0 + row as u32;
+        if (rows.0..rows.1).contains(&y) {
+            let start = ((y - rows.0) * width + x0) as usize;
+            counts[start..start + row_counts.len()].copy_from_slice(row_counts);
+        }
+    }
 }
 
 /// How many tiles the image is cut into.
