@@ -111,21 +111,29 @@ impl Light {
         })
     }
 
+    /// Whether light comes from one point (or one direction): no jitter moves it.
+    #[inline]
+    pub fn is_point_like(&self) -> bool {
+        matches!(self.kind, LightKind::Point | LightKind::Directional | LightKind::Spot)
+    }
+
     /// How many samples one shading point takes of this light.
     pub fn sample_count(&self) -> u32 {
-        match self.kind {
-            LightKind::Point | LightKind::Directional | LightKind::Spot => 1,
-            _ => self.samples_per_axis * self.samples_per_axis,
-        }
+        if self.is_point_like() { 1 } else { self.samples_per_axis * self.samples_per_axis }
     }
 
     /// Incidence from sample `index` of [`Light::sample_count`], jittered by `jitter` in
     /// [0, 1)² inside its stratum. An area light's intensity is shared equally by its
     /// samples, so summing all samples gives the whole light.
+    /// Inlined into the shading loops, the point light's case with it; an area light's
+    /// sample is a call.
+    #[inline]
     pub fn sample(&self, p: Vec3, index: u32, jitter: Vec2) -> Incidence {
-        if matches!(self.kind, LightKind::Point | LightKind::Directional | LightKind::Spot) {
-            return self.incidence(p);
-        }
+        if self.is_point_like() { self.incidence(p) } else { self.sample_area(p, index, jitter) }
+    }
+
+    /// [`Light::sample`] of an area light.
+    fn sample_area(&self, p: Vec3, index: u32, jitter: Vec2) -> Incidence {
         // (After the test: the integer divisions would otherwise run for every light.)
         let n = self.samples_per_axis;
         let u = (Vec2::new((index % n) as f32, (index / n) as f32) + jitter) / n as f32;
@@ -142,12 +150,14 @@ impl Light {
         Incidence { to_light: offset / distance, distance, radiance: share * self.f_att(distance) * self.color }
     }
 
+    #[inline]
     fn f_att(&self, d: f32) -> f32 {
         let [c1, c2, c3] = self.attenuation.to_array();
         (1.0 / (c1 + c2 * d + c3 * d * d)).min(1.0)
     }
 
     /// Direction, distance and unshadowed intensity of this light at `p`.
+    #[inline]
     pub fn incidence(&self, p: Vec3) -> Incidence {
         if self.kind == LightKind::Directional {
             return Incidence { to_light: -self.direction, distance: f32::INFINITY, radiance: self.color };

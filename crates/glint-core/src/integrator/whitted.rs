@@ -264,7 +264,14 @@ fn direct_lighting(
     for (light_index, light) in scene.lights.iter().enumerate() {
         // An area light is the sum of its stratified samples; the others have one.
         for index in 0..light.sample_count() {
-            let jitter = Vec2::new(ctx.rng.next_f32(), ctx.rng.next_f32());
+            // Point-like lights ignore the jitter: skipping it leaves an area light
+            // listed after them the numbers it always drew.
+            let jitter = if !light.is_point_like() {
+                Vec2::new(ctx.rng.next_f32(), ctx.rng.next_f32())
+            } else {
+                ctx.rng.skip(2);
+                Vec2::ZERO
+            };
             let incidence = light.sample(hit.point, index, jitter);
             let n_dot_l = n.dot(incidence.to_light);
             if n_dot_l <= 0.0 || incidence.radiance == Vec3::ZERO {

@@ -569,10 +569,15 @@ fn camera_sample(scene: &RenderScene, sampler: &PixelSampler, px: u32, py: u32, 
     let (fx, fy) = (px as f32 + offset.x, py as f32 + offset.y);
     let mut ctx = TraceContext {
         counters: Counters::default(),
-        rng: Rng::new(hash(&[px, py, index, scene.settings.seed])),
+        rng: Rng::keyed([px, py, index, scene.settings.seed]),
         footprint_scale: scene.settings.sample_footprint(index),
     };
-    let lens = Vec2::new(ctx.rng.next_f32(), ctx.rng.next_f32());
+    let lens = if scene.camera.aperture_radius > 0.0 {
+        Vec2::new(ctx.rng.next_f32(), ctx.rng.next_f32())
+    } else {
+        ctx.rng.skip(2);
+        Vec2::ZERO
+    };
     let ray = camera_ray(scene, fx, fy, lens, &mut ctx);
     CameraSample { fx, fy, ray, ctx }
 }
