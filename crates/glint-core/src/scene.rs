@@ -849,41 +849,54 @@ impl RenderScene {
 
     /// The steps in uv from `hit` to where the neighbouring pixels see its surface (see
     /// [`crate::footprint`]), the pixels `footprint_scale` of a pixel apart; `None` where
-    /// the footprint is unbounded.
+    /// the footprint is unbounded. The plane's case is inlined (a textured floor is the
+    /// common one, and its answer no longer comes back through memory); the others are
+    /// calls.
     #[inline]
     pub fn uv_steps(&self, hit: &Hit, time: f32, footprint_scale: f32) -> Option<[Vec2; 2]> {
         let s = &self.settings;
         let spacing = PixelSpacing::new(&self.camera, s.width, s.height, footprint_scale);
         let steps = spacing.surface_steps(hit.point, hit.geometric_normal)?;
         let inst = &self.instances[hit.instance as usize];
+        let steps = match inst.shape.kind {
+            ShapeKind::Plane => {
+                // The plane's uv is its object-space point's (x, −z): linear in the
+                // point, so a step's uv is the step's own, carried into object space.
+                let xf = self.transform_at(inst, time);
+                steps.map(|step| {
+                    let local = xf.object_from_world.transform_vector3(step);
+                    Vec2::new(local.x, -local.z)
+                })
+            }
+            ShapeKind::Mesh => self.mesh_uv_steps(inst, hit, time, steps),
+            _ => self.analytic_uv_steps(inst, hit, time, steps),
+        };
+        steps.iter().all(|d| d.is_finite()).then_some(steps)
+    }
+
+    /// [`RenderScene::uv_steps`] on a triangle, whose uv is linear in p: each step
+    /// solved for `a·∂p/∂u + b·∂p/∂v` by least squares. Without uvs the texture sees one
+    /// uv (no footprint).
+    #[inline(never)]
+    fn mesh_uv_steps(&self, inst: &Instance, hit: &Hit, time: f32, steps: [Vec3; 2]) -> [Vec2; 2] {
+        let mesh = &self.meshes[inst.shape.mesh_index() as usize];
+        let Some((dpdu, dpdv)) = mesh.uv_frame(hit.part as usize) else { return [Vec2::ZERO; 2] };
         let xf = self.transform_at(inst, time);
-        if inst.shape.kind == ShapeKind::Mesh {
-            // A triangle's uv is linear in p: solve step = a·∂p/∂u + b·∂p/∂v for (a, b)
-            // by least squares. Without uvs the texture sees one uv (no footprint).
-            let mesh = &self.meshes[inst.shape.mesh_index() as usize];
-            let Some((dpdu, dpdv)) = mesh.uv_frame(hit.part as usize) else { return Some([Vec2::ZERO; 2]) };
-            let (u, v) = (xf.vector_to_world(dpdu), xf.vector_to_world(dpdv));
-            let (uu, uv, vv) = (u.dot(u), u.dot(v), v.dot(v));
-            let det = uu * vv - uv * uv;
-            let solve = |step: Vec3| {
-                let (su, sv) = (u.dot(step), v.dot(step));
-                Vec2::new(vv * su - uv * sv, uu * sv - uv * su) / det
-            };
-            let steps = steps.map(solve);
-            return steps.iter().all(|d| d.is_finite()).then_some(steps);
-        }
-        if inst.shape.kind == ShapeKind::Plane {
-            // The plane's uv is its object-space point's (x, −z): linear in the point, so
-            // a step's uv is the step's own, carried into object space.
-            let uv_of = |step: Vec3| {
-                let local = xf.object_from_world.transform_vector3(step);
-                Vec2::new(local.x, -local.z)
-            };
-            let steps = steps.map(uv_of);
-            return steps.iter().all(|d| d.is_finite()).then_some(steps);
-        }
-        // Other analytic shapes give uv from the point (and the part of the surface), so
-        // the uv at each neighbour's point on the tangent plane is the shape's own answer.
+        let (u, v) = (xf.vector_to_world(dpdu), xf.vector_to_world(dpdv));
+        let (uu, uv, vv) = (u.dot(u), u.dot(v), v.dot(v));
+        let det = uu * vv - uv * uv;
+        steps.map(|step| {
+            let (su, sv) = (u.dot(step), v.dot(step));
+            Vec2::new(vv * su - uv * sv, uu * sv - uv * su) / det
+        })
+    }
+
+    /// [`RenderScene::uv_steps`] on an analytic shape other than the plane: the shapes
+    /// give uv from the point (and the part of the surface), so the uv at each
+    /// neighbour's point on the tangent plane is the shape's own answer.
+    #[inline(never)]
+    fn analytic_uv_steps(&self, inst: &Instance, hit: &Hit, time: f32, steps: [Vec3; 2]) -> [Vec2; 2] {
+        let xf = self.transform_at(inst, time);
         let uv_at = |step: Vec3| {
             let local = xf.ray_to_object(&Ray::new(hit.point + step, -hit.normal));
             let at = crate::shape::ShapeHit { t: 0.0, part: hit.part };
@@ -891,9 +904,10 @@ impl RenderScene {
         };
         // Bounded shapes' uvs wrap at a seam (a sphere's u from 1 to 0): the step across
         // it is the short way round.
-        let unwrapped = |d: Vec2| d - d.round();
-        let steps = steps.map(|step| unwrapped(uv_at(step) - hit.uv));
-        steps.iter().all(|d| d.is_finite()).then_some(steps)
+        steps.map(|step| {
+            let d = uv_at(step) - hit.uv;
+            d - d.round()
+        })
     }
 
     /// Radiance of a ray that leaves the scene along `dir`: the environment's, or the
