@@ -63,12 +63,18 @@ impl FilmTile {
 
     /// [`FilmTile::splat`] with the sample's AOVs (kept only by a film made
     /// [`FilmTile::with_aovs`]).
+    #[inline]
     pub fn splat_with(&mut self, filter: &Filter, fx: f32, fy: f32, value: Vec3, aov: Option<&Aov>) {
         let aov = aov.filter(|_| !self.aov_sums.is_empty()).map(|a| [a.albedo, a.normal, Vec3::splat(a.depth)]);
         if let Some(i) = self.only_pixel(filter, fx, fy) {
-            self.add(i, filter.eval(0.0, 0.0), value, &aov);
+            self.add(i, filter.box_weight(), value, &aov);
             return;
         }
+        self.splat_spread(filter, (fx, fy), value, &aov);
+    }
+
+    /// [`FilmTile::splat_with`] where the sample reaches more than one pixel.
+    fn splat_spread(&mut self, filter: &Filter, (fx, fy): (f32, f32), value: Vec3, aov: &Option<[Vec3; 3]>) {
         let r = filter.radius;
         let x_lo = ((fx - 0.5 - r).ceil() as i64).max(self.x0 as i64);
         let x_hi = ((fx - 0.5 + r).floor() as i64).min(self.x0 as i64 + self.width as i64 - 1);
@@ -79,7 +85,7 @@ impl FilmTile {
                 let w = filter.eval(px as f32 + 0.5 - fx, py as f32 + 0.5 - fy);
                 if w != 0.0 {
                     let i = ((py - self.y0 as i64) * self.width as i64 + (px - self.x0 as i64)) as usize;
-                    self.add(i, w, value, &aov);
+                    self.add(i, w, value, aov);
                 }
             }
         }

@@ -51,6 +51,14 @@ impl Filter {
         self.scale
     }
 
+    /// The box filter's weight anywhere inside it ([`Filter::eval`] there, without the
+    /// evaluation): all a sample strictly inside one pixel needs.
+    #[inline]
+    pub fn box_weight(&self) -> f32 {
+        debug_assert_eq!(self.kind, FilterKind::Box);
+        self.scale * self.scale
+    }
+
     #[inline]
     pub fn eval(&self, dx: f32, dy: f32) -> f32 {
         self.eval_1d(dx) * self.eval_1d(dy) * self.scale * self.scale
