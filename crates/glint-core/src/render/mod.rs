@@ -184,6 +184,7 @@ fn new_film(scene: &RenderScene, x0: u32, y0: u32, width: u32, height: u32) -> F
 
 /// One traced camera sample: where it lies on the film, what it brought back, what
 /// its first hit looks like, and which surface to blame if its value is not finite.
+#[derive(Clone, Copy)]
 struct Traced {
     fx: f32,
     fy: f32,
@@ -280,9 +281,9 @@ fn adaptive_tile(
         spreads[at(px, py)].add(display_luminance(traced.value));
         if (x0..x1).contains(&px) && (y0..y1).contains(&py) {
             if pilot {
-                pilots.push(traced);
+                pilots.push(*traced);
             } else {
-                film.splat(&traced);
+                film.splat(traced);
             }
         }
     });
@@ -320,7 +321,7 @@ fn adaptive_tile(
         let tile_width = (x1 - x0) as usize;
         let index_of = |(px, py): (u32, u32)| (py - y0) as usize * tile_width + (px - x0) as usize;
         trace_samples(scene, &sampler, &requests, counters, &mut |(px, py, _), traced| {
-            film.splat(&traced);
+            film.splat(traced);
             pixels[index_of((px, py))].spread.add(display_luminance(traced.value));
         });
         let mut any_left = false;
@@ -363,6 +364,9 @@ struct Refined {
     done: bool,
 }
 
+/// What takes each traced sample, with the request `(px, py, index)` it answers.
+type SampleDone<'a> = dyn FnMut((u32, u32, u32), &Traced) + 'a;
+
 /// Traces the samples `(px, py, index)` of `requests` at `sampler`'s positions and hands
 /// each to `done` in order: in waves where the scene is a handful of analytic objects
 /// shaded by the lighting equation, else one by one.
@@ -371,7 +375,7 @@ fn trace_samples(
     sampler: &PixelSampler,
     requests: &[(u32, u32, u32)],
     counters: &mut Counters,
-    done: &mut dyn FnMut((u32, u32, u32), Traced),
+    done: &mut SampleDone,
 ) {
     if let (Some(few), IntegratorDesc::Whitted) = (&scene.few_objects, scene.settings.integrator) {
         return crate::accel::lanes::on_avx2_or!(
@@ -380,7 +384,7 @@ fn trace_samples(
         );
     }
     for &(px, py, index) in requests {
-        done((px, py, index), trace_sample(scene, sampler, px, py, index, counters));
+        done((px, py, index), &trace_sample(scene, sampler, px, py, index, counters));
     }
 }
 
@@ -393,7 +397,7 @@ fn trace_samples_in_waves_avx2(
     sampler: &PixelSampler,
     requests: &[(u32, u32, u32)],
     counters: &mut Counters,
-    done: &mut dyn FnMut((u32, u32, u32), Traced),
+    done: &mut SampleDone,
 ) {
     whitted_waves::trace_samples_in_waves(scene, few, sampler, requests, counters, done)
 }

@@ -32,13 +32,12 @@ use crate::scene::{FewObjects, NO_OBJECT, RayWave, RenderScene, WAVE, WaveHits};
 /// keep waves full while the trees thin out, few enough to stay in cache.
 const BATCH_SAMPLES: usize = 256;
 
-/// A camera sample whose tree is in flight: what it has gathered so far.
+/// A camera sample whose tree is in flight: what it has gathered so far, kept as the
+/// record `done` takes by reference at the end (built there, it was copied through
+/// memory and stalled the loads that read it back).
 struct Sample {
-    fx: f32,
-    fy: f32,
+    traced: Traced,
     ctx: TraceContext,
-    value: Vec3,
-    aov: Aov,
 }
 
 /// A ray waiting to be traced: its sample, its weight in that sample and its depth.
@@ -97,7 +96,7 @@ pub(super) fn whitted_tile_in_waves(
             requests.extend((0..spp).map(|index| (px, py, index)));
         }
     }
-    trace_samples_in_waves(scene, few, &scene.settings.sampler, &requests, counters, |_, traced| film.splat(&traced));
+    trace_samples_in_waves(scene, few, &scene.settings.sampler, &requests, counters, |_, traced| film.splat(traced));
 }
 
 /// Traces the samples `(px, py, index)` that `requests` names, at the positions
@@ -110,7 +109,7 @@ pub(super) fn trace_samples_in_waves(
     sampler: &PixelSampler,
     requests: &[(u32, u32, u32)],
     counters: &mut Counters,
-    mut done: impl FnMut((u32, u32, u32), Traced),
+    mut done: impl FnMut((u32, u32, u32), &Traced),
 ) {
     let mut samples = Vec::with_capacity(BATCH_SAMPLES);
     let (mut rays, mut shadows) = (Vec::new(), Vec::new());
@@ -129,15 +128,15 @@ pub(super) fn trace_samples_in_waves(
         for (k, &(px, py, index)) in batch.iter().enumerate().rev() {
             let camera = camera_sample(scene, sampler, px, py, index);
             rays.push(Pending { sample: k as u32, ray: camera.ray, weight: Vec3::ONE, depth: 0 });
-            let (fx, fy, ctx) = (camera.fx, camera.fy, camera.ctx);
-            samples.push(Sample { fx, fy, ctx, value: Vec3::ZERO, aov: Aov::default() });
+            let traced = Traced { fx: camera.fx, fy: camera.fy, value: Vec3::ZERO, aov: Aov::default(), culprit: None };
+            samples.push(Sample { traced, ctx: camera.ctx });
         }
         samples.reverse();
         trace_batch(scene, few, &mut samples, &mut rays, &mut shadows);
-        for (&request, sample) in batch.iter().zip(&samples) {
+        for (&request, sample) in batch.iter().zip(&mut samples) {
             counters.rays += sample.ctx.counters.rays;
-            let (fx, fy, value, aov) = (sample.fx, sample.fy, sample.value, sample.aov);
-            done(request, Traced { fx, fy, value, aov, culprit: sample.ctx.counters.non_finite_at });
+            sample.traced.culprit = sample.ctx.counters.non_finite_at;
+            done(request, &sample.traced);
         }
     }
 }
@@ -168,22 +167,24 @@ fn trace_batch(
             sample.ctx.counters.rays += 1;
             let hit = scene.few_objects_hit_for_lighting(&pending.ray, &hits, lane);
             if pending.depth == 0 && scene.settings.aovs {
-                sample.aov = whitted_aov(scene, &pending.ray, hit.as_ref(), sample.ctx.footprint_scale);
+                sample.traced.aov = whitted_aov(scene, &pending.ray, hit.as_ref(), sample.ctx.footprint_scale);
             }
-            let Some(hit) = hit else {
-                sample.value += pending.weight * scene.background(pending.ray.dir);
+            // By reference: moved out of its option, the hit was copied through memory
+            // and stalled the loads that read it back.
+            let Some(hit) = hit.as_ref() else {
+                sample.traced.value += pending.weight * scene.background(pending.ray.dir);
                 continue;
             };
-            let surface = SurfaceId::of(&hit);
+            let surface = SurfaceId::of(hit);
             let mut deferred = Deferred { queue: shadows, sample: pending.sample, weight: pending.weight, surface };
-            let facing = Facing::of(&pending.ray, &hit);
-            let seen = (&pending.ray, &hit, &facing);
+            let facing = Facing::of(&pending.ray, hit);
+            let seen = (&pending.ray, hit, &facing);
             let local = shade_vertex(scene, seen, &mut sample.ctx, &mut deferred, &mut NoObserver);
             let local = pending.weight * local;
             if !local.is_finite() {
-                sample.ctx.counters.blame(&hit);
+                sample.ctx.counters.blame(hit);
             }
-            sample.value += local;
+            sample.traced.value += local;
             for_each_secondary(scene, seen, pending.depth, pending.weight, |ray, _, _, weight| {
                 rays.push(Pending { sample: pending.sample, ray, weight, depth: pending.depth + 1 });
             });
@@ -217,7 +218,7 @@ fn resolve_shadows(scene: &RenderScene, few: &FewObjects, samples: &mut [Sample]
         if !light.is_finite() {
             sample.ctx.counters.blame_surface(shadow.surface);
         }
-        sample.value += light;
+        sample.traced.value += light;
     };
     if !(scene.has_transmissive && scene.settings.features.transparent_shadows) {
         let blocked = few.blocked(&lanes);
@@ -230,38 +231,62 @@ fn resolve_shadows(scene: &RenderScene, few: &FewObjects, samples: &mut [Sample]
     }
     // Transparent occluders filter the light: each ray goes on past the transparent
     // surfaces it meets, in waves, until it reaches its light or an opaque surface.
-    // The rays still going are packed at the front of a wave-sized array, not a vector,
-    // so the waves allocate nothing.
-    let mut crossings = [None; WAVE];
-    for (slot, shadow) in crossings.iter_mut().zip(shadows) {
-        *slot = Some(Crossing { shadow, ray: shadow.ray, t_left: shadow.t_max, filter: Vec3::ONE });
+    // The first wave reads the pending rays as they are; the few that go on are packed
+    // at the front of a wave-sized array, not a vector, so the waves allocate nothing.
+    let hits = few.trace(&lanes);
+    let mut going = Going::default();
+    for (lane, shadow) in shadows.iter().enumerate() {
+        let crossing = Crossing { shadow, ray: shadow.ray, t_left: shadow.t_max, filter: Vec3::ONE };
+        going.step(scene, &hits, lane, &crossing, &mut add);
     }
-    let mut hits = few.trace(&lanes);
     // The bound only guards against pathological scenes, as in `transmittance`.
-    for _ in 0..64 {
-        let (mut next, mut going) = ([None; WAVE], 0);
-        let mut lanes = RayWave::default();
-        for (lane, crossing) in crossings.iter().map_while(|c| c.as_ref()).enumerate() {
-            let object = hits.object[lane];
-            if object == NO_OBJECT {
-                add(crossing.shadow, crossing.filter);
-                continue;
-            }
-            let material = &scene.materials[scene.instances[object as usize].material as usize];
-            let filter = crossing.filter * material.transmissive;
-            if filter.max_element() <= 0.0 {
-                continue;
-            }
-            let beyond = crossing.past_surface(scene, &hits, lane, filter);
-            lanes.set(going, &beyond.ray, beyond.t_left, true);
-            next[going] = Some(beyond);
-            going += 1;
-        }
-        if going == 0 {
+    for _ in 1..64 {
+        if going.count == 0 {
             return;
         }
-        hits = few.trace(&lanes);
-        crossings = next;
+        let hits = few.trace(&going.lanes);
+        let crossings = std::mem::take(&mut going);
+        for (lane, crossing) in crossings.crossings.iter().take(crossings.count).enumerate() {
+            going.step(scene, &hits, lane, crossing.as_ref().expect("packed at the front"), &mut add);
+        }
+    }
+}
+
+/// The shadow rays that go on past a transparent surface, packed at the front.
+#[derive(Default)]
+struct Going<'a> {
+    crossings: [Option<Crossing<'a>>; WAVE],
+    lanes: RayWave,
+    count: usize,
+}
+
+impl<'a> Going<'a> {
+    /// Where `crossing`'s lane of `hits` leads: nothing more in the way (its light is
+    /// added), an opaque surface (nothing is), or a transparent one (it goes on past it,
+    /// filtered).
+    #[inline(always)]
+    fn step(
+        &mut self,
+        scene: &RenderScene,
+        hits: &WaveHits,
+        lane: usize,
+        crossing: &Crossing<'a>,
+        add: &mut impl FnMut(&PendingShadow, Vec3),
+    ) {
+        let object = hits.object[lane];
+        if object == NO_OBJECT {
+            add(crossing.shadow, crossing.filter);
+            return;
+        }
+        let material = &scene.materials[scene.instances[object as usize].material as usize];
+        let filter = crossing.filter * material.transmissive;
+        if filter.max_element() <= 0.0 {
+            return;
+        }
+        let beyond = crossing.past_surface(scene, hits, lane, filter);
+        self.lanes.set(self.count, &beyond.ray, beyond.t_left, true);
+        self.crossings[self.count] = Some(beyond);
+        self.count += 1;
     }
 }
 
