@@ -568,6 +568,7 @@ struct CameraSample {
 }
 
 /// Sample `index` of pixel (`px`, `py`), up to its camera ray.
+#[inline(always)]
 fn camera_sample(scene: &RenderScene, sampler: &PixelSampler, px: u32, py: u32, index: u32) -> CameraSample {
     let offset = sampler.offset(px, py, index);
     let (fx, fy) = (px as f32 + offset.x, py as f32 + offset.y);

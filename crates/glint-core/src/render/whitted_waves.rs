@@ -111,7 +111,7 @@ pub(super) fn trace_samples_in_waves(
     counters: &mut Counters,
     mut done: impl FnMut((u32, u32, u32), &Traced),
 ) {
-    let mut samples = Vec::with_capacity(BATCH_SAMPLES);
+    let (mut cameras, mut samples) = (Vec::with_capacity(BATCH_SAMPLES), Vec::with_capacity(BATCH_SAMPLES));
     let (mut rays, mut shadows) = (Vec::new(), Vec::new());
     let mut start = 0;
     while start < requests.len() {
@@ -123,15 +123,18 @@ pub(super) fn trace_samples_in_waves(
         }
         let batch = &requests[start..end];
         start = end;
+        // The camera samples first, all of them: their rays are read long after they
+        // were written (read at once, they stalled on the stores that returned them).
+        cameras.clear();
+        cameras.extend(batch.iter().map(|&(px, py, index)| camera_sample(scene, sampler, px, py, index)));
         samples.clear();
-        // Pushed in reverse and popped from the end: the batch's first rays go first.
-        for (k, &(px, py, index)) in batch.iter().enumerate().rev() {
-            let camera = camera_sample(scene, sampler, px, py, index);
-            rays.push(Pending { sample: k as u32, ray: camera.ray, weight: Vec3::ONE, depth: 0 });
+        samples.extend(cameras.iter().map(|camera| {
             let traced = Traced { fx: camera.fx, fy: camera.fy, value: Vec3::ZERO, aov: Aov::default(), culprit: None };
-            samples.push(Sample { traced, ctx: camera.ctx });
-        }
-        samples.reverse();
+            Sample { traced, ctx: camera.ctx.clone() }
+        }));
+        // Pushed in reverse and popped from the end: the batch's first rays go first.
+        let camera_rays = cameras.iter().enumerate().rev();
+        rays.extend(camera_rays.map(|(k, c)| Pending { sample: k as u32, ray: c.ray, weight: Vec3::ONE, depth: 0 }));
         trace_batch(scene, few, &mut samples, &mut rays, &mut shadows);
         for (&request, sample) in batch.iter().zip(&mut samples) {
             counters.rays += sample.ctx.counters.rays;
