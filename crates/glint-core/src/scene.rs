@@ -852,7 +852,7 @@ impl RenderScene {
     /// the footprint is unbounded. The plane's case is inlined (a textured floor is the
     /// common one, and its answer no longer comes back through memory); the others are
     /// calls.
-    #[inline]
+    #[inline(always)]
     pub fn uv_steps(&self, hit: &Hit, time: f32, footprint_scale: f32) -> Option<[Vec2; 2]> {
         let s = &self.settings;
         let spacing = PixelSpacing::new(&self.camera, s.width, s.height, footprint_scale);
