@@ -162,16 +162,17 @@ impl FilmTile {
     }
 
     /// This film, emptied and reshaped to the rectangle (`x0`, `y0`, `width`, `height`),
-    /// its memory kept: a merge that fills one band after another reuses one film.
-    pub fn reset(&mut self, x0: u32, y0: u32, width: u32, height: u32) {
+    /// keeping [`Aov`]s where `aovs`, its memory kept: a merge that fills one band after
+    /// another reuses one film.
+    pub fn reset(&mut self, (x0, y0, width, height): (u32, u32, u32, u32), aovs: bool) {
         let n = width as usize * height as usize;
         (self.x0, self.y0, self.width, self.height) = (x0, y0, width, height);
         self.sums.clear();
         self.sums.resize(n, Vec3::ZERO);
         self.weights.clear();
         self.weights.resize(n, 0.0);
-        if !self.aov_sums.is_empty() {
-            self.aov_sums.clear();
+        self.aov_sums.clear();
+        if aovs {
             self.aov_sums.resize(n, [Vec3::ZERO; 3]);
         }
     }
@@ -338,8 +339,16 @@ mod tests {
         assert_eq!(fresh.pixels.iter().filter(|p| **p != Vec3::ZERO).count(), 2);
         let mut reused = FilmTile::new(1, 1, 9, 9);
         reused.splat(&filter, 4.5, 2.5, Vec3::splat(100.0));
-        reused.reset(0, 0, 6, 4);
+        reused.reset((0, 0, 6, 4), false);
         assert_eq!(merged(&mut reused), fresh);
+        // A film made empty (as a merge's workers start) keeps the AOVs it is reset to.
+        let mut empty = FilmTile::new(0, 0, 0, 0);
+        empty.reset((0, 0, 6, 4), true);
+        let aov = Aov { albedo: Vec3::X, normal: Vec3::Y, depth: 2.0 };
+        empty.splat_with(&filter, 4.5, 2.5, Vec3::ONE, Some(&aov));
+        assert_eq!(empty.resolve_aovs().expect("AOVs kept").depth.get(4, 2), Vec3::splat(2.0));
+        empty.reset((0, 0, 6, 4), false);
+        assert!(empty.resolve_aovs().is_none());
     }
 
     #[test]

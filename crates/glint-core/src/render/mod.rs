@@ -124,11 +124,11 @@ fn merge_tiles<'a>(scene: &RenderScene, tiles: impl Iterator<Item = &'a Finished
         .enumerate()
         // One film per worker, reset for each band it merges.
         .map_init(
-            || new_film(scene, 0, 0, 0, 0),
+            || FilmTile::new(0, 0, 0, 0),
             |film, (band, (pixels, counts))| {
                 let y0 = (band * band_rows) as u32;
                 let rows = (pixels.len() / width as usize) as u32;
-                film.reset(0, y0, width, rows);
+                film.reset((0, y0, width, rows), scene.settings.aovs);
                 let overlaps = |t: &&&FinishedTile| t.film.y0 < y0 + rows && t.film.y0 + t.film.height > y0;
                 for tile in tiles.iter().filter(overlaps) {
                     film.merge(&tile.film);
