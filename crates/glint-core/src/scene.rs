@@ -868,8 +868,10 @@ impl RenderScene {
                     Vec2::new(local.x, -local.z)
                 })
             }
-            ShapeKind::Mesh => self.mesh_uv_steps(inst, hit, time, steps),
-            _ => self.analytic_uv_steps(inst, hit, time, steps),
+            // The hit's fields by value: a reference would make every caller keep its
+            // hit in memory, where reading it back just after building it stalls.
+            ShapeKind::Mesh => self.mesh_uv_steps(inst, hit.part, time, steps),
+            _ => self.analytic_uv_steps(inst, (hit.point, hit.normal, hit.uv, hit.part), time, steps),
         };
         steps.iter().all(|d| d.is_finite()).then_some(steps)
     }
@@ -878,9 +880,9 @@ impl RenderScene {
     /// solved for `a·∂p/∂u + b·∂p/∂v` by least squares. Without uvs the texture sees one
     /// uv (no footprint).
     #[inline(never)]
-    fn mesh_uv_steps(&self, inst: &Instance, hit: &Hit, time: f32, steps: [Vec3; 2]) -> [Vec2; 2] {
+    fn mesh_uv_steps(&self, inst: &Instance, part: u32, time: f32, steps: [Vec3; 2]) -> [Vec2; 2] {
         let mesh = &self.meshes[inst.shape.mesh_index() as usize];
-        let Some((dpdu, dpdv)) = mesh.uv_frame(hit.part as usize) else { return [Vec2::ZERO; 2] };
+        let Some((dpdu, dpdv)) = mesh.uv_frame(part as usize) else { return [Vec2::ZERO; 2] };
         let xf = self.transform_at(inst, time);
         let (u, v) = (xf.vector_to_world(dpdu), xf.vector_to_world(dpdv));
         let (uu, uv, vv) = (u.dot(u), u.dot(v), v.dot(v));
@@ -895,17 +897,23 @@ impl RenderScene {
     /// give uv from the point (and the part of the surface), so the uv at each
     /// neighbour's point on the tangent plane is the shape's own answer.
     #[inline(never)]
-    fn analytic_uv_steps(&self, inst: &Instance, hit: &Hit, time: f32, steps: [Vec3; 2]) -> [Vec2; 2] {
+    fn analytic_uv_steps(
+        &self,
+        inst: &Instance,
+        (point, normal, uv, part): (Vec3, Vec3, Vec2, u32),
+        time: f32,
+        steps: [Vec3; 2],
+    ) -> [Vec2; 2] {
         let xf = self.transform_at(inst, time);
         let uv_at = |step: Vec3| {
-            let local = xf.ray_to_object(&Ray::new(hit.point + step, -hit.normal));
-            let at = crate::shape::ShapeHit { t: 0.0, part: hit.part };
+            let local = xf.ray_to_object(&Ray::new(point + step, -normal));
+            let at = crate::shape::ShapeHit { t: 0.0, part };
             inst.shape.surface_with(&self.shape_tables, &local, at).uv
         };
         // Bounded shapes' uvs wrap at a seam (a sphere's u from 1 to 0): the step across
         // it is the short way round.
         steps.map(|step| {
-            let d = uv_at(step) - hit.uv;
+            let d = uv_at(step) - uv;
             d - d.round()
         })
     }

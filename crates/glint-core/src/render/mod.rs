@@ -549,7 +549,9 @@ fn path_camera_ray(
 }
 
 /// The AOVs of a Whitted camera ray from its first hit: the diffuse colour (textured as
-/// the shading is); nothing unless the render keeps AOVs.
+/// the shading is); nothing unless the render keeps AOVs. Inlined, so that its caller's
+/// hit need not be kept in memory for it.
+#[inline(always)]
 fn whitted_aov(scene: &RenderScene, ray: &Ray, hit: Option<&crate::scene::Hit>, footprint_scale: f32) -> Aov {
     let Some(hit) = hit.filter(|_| scene.settings.aovs) else { return Aov::default() };
     let m = &scene.materials[hit.material as usize];
