@@ -106,7 +106,7 @@ impl Material {
     #[inline]
     pub fn highlight(&self, n: Vec3, l: Vec3, v: Vec3) -> f32 {
         let cosine = if self.highlight == BLINN_HIGHLIGHT {
-            (l + v).normalize_or_zero().dot(n)
+            crate::math::unit_or_zero(l + v).dot(n)
         } else {
             (2.0 * l.dot(n) * n - l).dot(v)
         };

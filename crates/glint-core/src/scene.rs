@@ -707,7 +707,7 @@ impl RenderScene {
             ShapeKind::Plane => crate::shape::Plane.surface(local, hit),
             _ => inst.shape.surface_with(&self.shape_tables, local, hit),
         };
-        let normal = xf.normal_to_world(surface.normal).normalize_or(Vec3::Y);
+        let normal = crate::math::unit_or(xf.normal_to_world(surface.normal), Vec3::Y);
         let point = xf.point_to_world(surface.point);
         Hit {
             t: hit.t,

@@ -13,7 +13,7 @@ use super::wide::{F8, V8};
 /// side the new ray leaves on.
 #[inline(always)]
 pub fn offset_ray_origin(p: Vec3, n: Vec3) -> Vec3 {
-    let n = n.normalize_or_zero();
+    let n = super::unit_or_zero(n);
     #[cfg(target_arch = "x86_64")]
     return offset_lanes(p, n);
     #[cfg(not(target_arch = "x86_64"))]

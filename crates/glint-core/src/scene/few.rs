@@ -355,7 +355,7 @@ impl RenderScene {
                 (surface.point, surface.normal)
             }
         };
-        (xf.point_to_world(point), xf.normal_to_world(normal).normalize_or(Vec3::Y))
+        (xf.point_to_world(point), crate::math::unit_or(xf.normal_to_world(normal), Vec3::Y))
     }
 }
 

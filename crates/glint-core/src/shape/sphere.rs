@@ -29,7 +29,7 @@ impl Primitive for Sphere {
 
     #[inline(always)]
     fn point_and_normal(&self, ray: &Ray, hit: ShapeHit) -> (Vec3, Vec3) {
-        let point = ray.at(hit.t).normalize_or(Vec3::Y);
+        let point = crate::math::unit_or(ray.at(hit.t), Vec3::Y);
         // ∇f = 2P; the factor 2 is irrelevant once normalized.
         (point, point)
     }
