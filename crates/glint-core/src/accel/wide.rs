@@ -180,6 +180,10 @@ impl WideBvh {
                 continue;
             }
             let near = near.to_array();
+            // A child's sort key: its entry distance's bits (never negative, so they
+            // order as the distance does) with the lane in the lowest three, which only
+            // breaks near-ties.
+            let key = |lane: usize| (near[lane].to_bits() & !7) | lane as u32;
             let entry = |lane: usize| {
                 let (child, count) = (n.child[lane], n.count[lane]);
                 self.prefetch_child(leaves, child, count);
@@ -188,27 +192,36 @@ impl WideBvh {
             if mask & (mask - 1) == 0 || order == Order::Any {
                 // One child (the common case), or any-hit order: the first is next, the
                 // rest go on the stack as they come.
-                next = Some(entry(mask.trailing_zeros() as usize));
+                next = Some(entry(lowest_lane(mask)));
                 mask &= mask - 1;
                 while mask != 0 {
-                    stack[top].write(entry(mask.trailing_zeros() as usize));
+                    stack[top].write(entry(lowest_lane(mask)));
                     top += 1;
                     mask &= mask - 1;
                 }
                 continue;
             }
+            // Two children (most nodes with more than one): the farther is pushed and the
+            // nearer is next, ordered by the keys the sort below orders by, with no loop.
+            let rest = mask & (mask - 1);
+            if rest & (rest - 1) == 0 {
+                let (a, b) = (key(lowest_lane(mask)), key(lowest_lane(rest)));
+                let (nearer, farther) = if b < a { (b, a) } else { (a, b) };
+                stack[top].write(entry((farther & 7) as usize));
+                top += 1;
+                next = Some(entry((nearer & 7) as usize));
+                continue;
+            }
             // Sort the hit children farthest first: all but the nearest are pushed, so
             // the nearest of them is popped first. Sorted as keys of four bytes rather
-            // than as stack entries of twelve: an entry distance is never negative, so
-            // its bits order as it does, and the lane takes their lowest three (which
-            // only breaks near-ties).
+            // than as stack entries of twelve.
             let mut keys = [0u32; WIDTH];
             let mut k = 0;
             while mask != 0 {
-                let lane = mask.trailing_zeros();
+                let lane = lowest_lane(mask);
                 // Loads started as soon as the children are known.
-                self.prefetch_child(leaves, n.child[lane as usize], n.count[lane as usize]);
-                insert_farthest_first(&mut keys, &mut k, (near[lane as usize].to_bits() & !7) | lane, |&key| key);
+                self.prefetch_child(leaves, n.child[lane], n.count[lane]);
+                insert_farthest_first(&mut keys, &mut k, key(lane), |&key| key);
                 mask &= mask - 1;
             }
             let sorted_entry = |key: u32| {
@@ -226,18 +239,28 @@ impl WideBvh {
 
 impl WideBvh {
     /// Starts loading a child that is about to be pushed or visited: its node, or its
-    /// leaf's primitives (a packet or two, except in the rare leaf the depth limit
-    /// forced, whose first few are enough).
+    /// leaf's first two primitives (a leaf holds one or two packets, except the rare
+    /// one the depth limit forced, whose first two are enough).
     #[inline(always)]
     pub(super) fn prefetch_child<P>(&self, leaves: &[P], child: u32, count: u32) {
         if count == 0 {
             prefetch(&self.nodes[child as usize]);
-        } else {
-            for leaf in leaves.iter().skip(child as usize).take(count.min(4) as usize) {
-                prefetch(leaf);
+        } else if let Some(first) = leaves.get(child as usize) {
+            prefetch(first);
+            if count > 1
+                && let Some(second) = leaves.get(child as usize + 1)
+            {
+                prefetch(second);
             }
         }
     }
+}
+
+/// The lowest set lane of a child mask, masked to the eight lanes so that indexing a
+/// node's arrays by it needs no bounds check.
+#[inline(always)]
+pub(super) fn lowest_lane(mask: u32) -> usize {
+    (mask.trailing_zeros() & (WIDTH as u32 - 1)) as usize
 }
 
 /// Inserts `entry` into `sorted[..*len]`, kept farthest first by `distance`: the caller
