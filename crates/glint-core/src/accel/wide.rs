@@ -184,6 +184,7 @@ impl WideBvh {
             // order as the distance does) with the lane in the lowest three, which only
             // breaks near-ties.
             let key = |lane: usize| (near[lane].to_bits() & !7) | lane as u32;
+            let lane_of = |key: u32| (key & 7) as usize;
             let entry = |lane: usize| {
                 let (child, count) = (n.child[lane], n.count[lane]);
                 self.prefetch_child(leaves, child, count);
@@ -207,9 +208,9 @@ impl WideBvh {
             if rest & (rest - 1) == 0 {
                 let (a, b) = (key(lowest_lane(mask)), key(lowest_lane(rest)));
                 let (nearer, farther) = if b < a { (b, a) } else { (a, b) };
-                stack[top].write(entry((farther & 7) as usize));
+                stack[top].write(entry(lane_of(farther)));
                 top += 1;
-                next = Some(entry((nearer & 7) as usize));
+                next = Some(entry(lane_of(nearer)));
                 continue;
             }
             // Sort the hit children farthest first: all but the nearest are pushed, so
@@ -225,7 +226,7 @@ impl WideBvh {
                 mask &= mask - 1;
             }
             let sorted_entry = |key: u32| {
-                let lane = (key & 7) as usize;
+                let lane = lane_of(key);
                 (n.child[lane], n.count[lane], near[lane])
             };
             for &key in &keys[..k - 1] {
