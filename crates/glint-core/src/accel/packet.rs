@@ -139,10 +139,14 @@ impl WideBvh {
         }
         // Rays into different octants part ways at once: they go on alone from the root
         // (the switch below, taken at once: one call site of `alone`, so it is inlined).
-        let mut scattered = HYBRID && !one_octant(rays, active);
+        let octant = one_octant(rays, active);
+        let mut scattered = HYBRID && !octant;
         // Rays of one octant are tested side by side, child by child, after their
         // frustum has ruled out the children none of them can enter; others ray by ray.
-        let frustum = (!scattered && one_octant(rays, active)).then(|| Frustum::new(lanes, rays, active));
+        let frustum = octant.then(|| Frustum::new(lanes, rays, active));
+        // The frustum ends where its farthest ray does: shadow rays end at their light.
+        // Any-hit rays keep their `t_max` until they are done, so that is known now.
+        let fixed_far = (order == Order::Any).then(|| farthest(active, t_max));
         let slabs: Option<[SlabRay<L>; PACKET]> =
             frustum.is_none().then(|| std::array::from_fn(|r| SlabRay::new(lanes, &rays[r.min(rays.len() - 1)])));
         let mut done = 0u32;
@@ -195,7 +199,10 @@ impl WideBvh {
             }
             let n = &self.nodes[entry.index as usize];
             let (child_rays, child_near) = match (&frustum, &slabs) {
-                (Some(frustum), _) => frustum.children_entered(n, order, rays, t_max),
+                (Some(frustum), _) => {
+                    let t_far = fixed_far.unwrap_or_else(|| farthest(rays, t_max));
+                    frustum.children_entered(n, rays, t_max, t_far)
+                }
                 (None, Some(slabs)) => children_entered_ray_by_ray(lanes, slabs, n, order, rays, t_max),
                 (None, None) => unreachable!("a packet without a frustum tests ray by ray"),
             };
@@ -235,6 +242,12 @@ impl WideBvh {
             next = Some(sorted[k - 1]);
         }
     }
+}
+
+/// The largest `t_max` of the rays of mask `rays`.
+#[inline(always)]
+fn farthest(rays: u32, t_max: &[f32; PACKET]) -> f32 {
+    bits(rays).fold(0.0f32, |far, r| if t_max[r] > far { t_max[r] } else { far })
 }
 
 /// For each of `n`'s children, the mask of the rays of `rays` that enter it (byte `lane`)
@@ -303,27 +316,26 @@ impl<L: Lanes> Frustum<L> {
     fn new(lanes: L, rays: &[Ray], active: u32) -> Self {
         // Per axis and lane: origin, the very reciprocal `SlabRay::new` takes, and it
         // widened for the far planes.
+        // Lanes of rays outside `active` repeat the first active ray, so that the ranges
+        // can be taken over all eight lanes.
+        let first = bits(active).next().unwrap_or(0);
         let (mut origin, mut inv, mut inv_far) = ([[0.0; PACKET]; 3], [[0.0; PACKET]; 3], [[0.0; PACKET]; 3]);
-        for (r, ray) in (0..PACKET).map(|r| (r, &rays[r.min(rays.len() - 1)])) {
+        for r in 0..PACKET {
+            let ray = &rays[if active >> r & 1 == 1 { r } else { first }];
             let recip = ray.dir.recip();
             for a in 0..3 {
                 (origin[a][r], inv[a][r], inv_far[a][r]) = (ray.origin[a], recip[a], recip[a] * ROBUST_FAR);
             }
         }
-        let empty = (f32::INFINITY, f32::NEG_INFINITY);
-        let (mut origin_range, mut inv_range, mut inv_far_range) = ([empty; 3], [empty; 3], [empty; 3]);
-        for r in bits(active) {
-            for a in 0..3 {
-                for (range, value) in [
-                    (&mut origin_range, origin[a][r]),
-                    (&mut inv_range, inv[a][r]),
-                    (&mut inv_far_range, inv_far[a][r]),
-                ] {
-                    range[a] = (range[a].0.min(value), range[a].1.max(value));
-                }
-            }
-        }
-        let first = bits(active).next().unwrap_or(0);
+        // Plain compares, not `f32::min`: no lane is NaN (a ray's origin is finite, its
+        // reciprocals are numbers or infinities), so the NaN handling is wasted.
+        let range = |values: &[f32; PACKET]| {
+            values
+                .iter()
+                .fold((values[0], values[0]), |(lo, hi), &v| (if v < lo { v } else { lo }, if v > hi { v } else { hi }))
+        };
+        let (origin_range, inv_range, inv_far_range) =
+            (origin.map(|o| range(&o)), inv.map(|i| range(&i)), inv_far.map(|i| range(&i)));
         // The planes `SlabRay::new` picks: the upper one first where 1/d < 0.
         let descending: [bool; 3] = std::array::from_fn(|a| inv[a][first] < 0.0);
         let near_plane = std::array::from_fn(|a| 2 * a + usize::from(descending[a]));
@@ -384,17 +396,11 @@ impl<L: Lanes> Frustum<L> {
     fn children_entered(
         &self,
         n: &WideNode,
-        order: Order,
         rays: u32,
         t_max: &[f32; PACKET],
+        t_far: f32,
     ) -> ([u8; WIDTH], [f32; WIDTH]) {
         let lanes = self.lanes;
-        // Any-hit rays keep their `t_max` until they are done: the frustum's far end
-        // need not follow it.
-        let t_far = match order {
-            Order::Any => f32::INFINITY,
-            Order::NearestFirst => bits(rays).fold(0.0f32, |far, r| if t_max[r] > far { t_max[r] } else { far }),
-        };
         let t_max_lanes = lanes.load(t_max);
         let (candidates, lowest_near) = self.candidates(n, t_far);
         let mut child_rays = [0u8; WIDTH];

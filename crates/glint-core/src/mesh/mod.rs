@@ -290,9 +290,17 @@ impl Mesh {
     /// [`Mesh::occluded`] for up to [`PACKET`] coherent rays: bit `i` of the result is
     /// set where `rays[i]` is blocked.
     pub fn occluded_packet(&self, rays: &[Ray], t_max: f32) -> u32 {
+        let all = (1u32 << rays.len().min(PACKET)) - 1;
+        self.occluded_rays(rays, all, &[t_max; PACKET])
+    }
+
+    /// [`Mesh::occluded_packet`] for the rays of mask `active`, each over its own
+    /// segment `0 < t < t_max[i]`: shadow rays from neighbouring hits to one light
+    /// (each ends at the light) go in one packet.
+    pub fn occluded_rays(&self, rays: &[Ray], active: u32, t_max: &[f32; PACKET]) -> u32 {
         crate::accel::lanes::on_avx2_or!(
-            |avx| self.occluded_packet_avx2(avx, rays, t_max),
-            self.occluded_packet_on(Portable, rays, t_max)
+            |avx| self.occluded_packet_avx2(avx, rays, active, t_max),
+            self.occluded_packet_on(Portable, rays, active, t_max)
         )
     }
 
@@ -311,20 +319,28 @@ impl Mesh {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn occluded_packet_avx2(&self, avx: crate::accel::lanes::Avx2, rays: &[Ray], t_max: f32) -> u32 {
-        self.occluded_packet_on(avx, rays, t_max)
+    fn occluded_packet_avx2(
+        &self,
+        avx: crate::accel::lanes::Avx2,
+        rays: &[Ray],
+        active: u32,
+        t_max: &[f32; PACKET],
+    ) -> u32 {
+        self.occluded_packet_on(avx, rays, active, t_max)
     }
 
-    /// The packet's watertight rays and the mask of rays that have one.
+    /// The watertight rays of the packet's rays in `active`, and the mask of those that
+    /// have one (the others are left out: a mesh instance gets only the rays that
+    /// entered its box, transformed into its space).
     #[inline(always)]
-    fn packet_rays(rays: &[Ray]) -> ([Option<WatertightRay4>; PACKET], u32) {
+    fn packet_rays(rays: &[Ray], active: u32) -> ([Option<WatertightRay4>; PACKET], u32) {
         let mut prepared = [None; PACKET];
-        let mut active = 0;
-        for (r, ray) in rays.iter().take(PACKET).enumerate() {
-            prepared[r] = WatertightRay::new(ray).map(WatertightRay4::new);
-            active |= u32::from(prepared[r].is_some()) << r;
+        let mut valid = 0;
+        for r in bits(active & ((1u32 << rays.len().min(PACKET)) - 1)) {
+            prepared[r] = WatertightRay::new(&rays[r]).map(WatertightRay4::new);
+            valid |= u32::from(prepared[r].is_some()) << r;
         }
-        (prepared, active)
+        (prepared, valid)
     }
 
     #[inline(always)]
@@ -337,7 +353,7 @@ impl Mesh {
         hits: &mut [Option<ShapeHit>; PACKET],
     ) {
         assert!(rays.len() <= PACKET, "at most {PACKET} rays");
-        let (wrays, valid) = Self::packet_rays(rays);
+        let (wrays, valid) = Self::packet_rays(rays, active);
         // Both closures write `hits`, one at a time: a cell lends it to each.
         let hits = std::cell::RefCell::new(hits);
         self.bvh.traverse_hybrid(
@@ -379,17 +395,17 @@ impl Mesh {
     }
 
     #[inline(always)]
-    fn occluded_packet_on<L: Lanes>(&self, lanes: L, rays: &[Ray], t_max: f32) -> u32 {
+    fn occluded_packet_on<L: Lanes>(&self, lanes: L, rays: &[Ray], active: u32, t_max: &[f32; PACKET]) -> u32 {
         assert!(rays.len() <= PACKET, "at most {PACKET} rays");
-        let (wrays, active) = Self::packet_rays(rays);
+        let (wrays, valid) = Self::packet_rays(rays, active);
         let blocked = std::cell::Cell::new(0);
         self.bvh.traverse_hybrid(
             lanes,
             Order::Any,
             &self.packets,
             rays,
-            active,
-            &mut [t_max; PACKET],
+            active & valid,
+            &mut t_max.clone(),
             |packet, in_leaf, t| {
                 let packet = &self.packets[packet as usize];
                 let now = bits(in_leaf)
