@@ -8,7 +8,7 @@
 // `glint bench --json`'s; every closest hit is checked against the file's reference.
 //
 // Build: g++ -O2 -std=c++17 embree_native.cpp -lembree3 -lpthread -o embree_native
-// Usage: embree_native FILE THREADS ROUNDS
+// Usage: [EMBREE_ROBUST=1] embree_native FILE THREADS ROUNDS
 #include <embree3/rtcore.h>
 
 #include <algorithm>
@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <ctime>
 #include <fstream>
@@ -65,6 +66,11 @@ static double clock_seconds(clockid_t id) {
 static RTCScene build(RTCDevice device, const Input& in) {
     RTCScene scene = rtcNewScene(device);
     rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_MEDIUM);
+    // EMBREE_ROBUST=1: Embree's robust mode (robust traversal and a Pluecker triangle
+    // test meant to be watertight, as glint's test is; the default, Moeller-Trumbore,
+    // can miss along shared edges).
+    const char* robust = std::getenv("EMBREE_ROBUST");
+    if (robust && std::strcmp(robust, "1") == 0) rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
     RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                            3 * sizeof(float), in.positions.size() / 3));

@@ -725,7 +725,7 @@ impl RenderScene {
 
     /// Whether instance `index` lets shadow rays through (its material casts no shadow).
     #[inline]
-    pub(crate) fn casts_no_shadow(&self, index: u32) -> bool {
+    fn casts_no_shadow(&self, index: u32) -> bool {
         if !self.has_shadowless {
             return false;
         }
@@ -751,28 +751,23 @@ impl RenderScene {
     /// [`RenderScene::occluded`] with the instance BVH traversed on the lanes `L`.
     #[inline(always)]
     fn occluded_on<L: Lanes>(&self, lanes: L, ray: &Ray, t_max: f32) -> bool {
-        let hits = |index: u32, t_max: &mut f32| self.instance_blocks(index, ray, *t_max);
+        let hits = |index: u32, t_max: &mut f32| {
+            if self.casts_no_shadow(index) {
+                return false;
+            }
+            let inst = &self.instances[index as usize];
+            let local = self.transform_at(inst, ray.time).ray_to_object(ray);
+            match inst.shape.kind {
+                ShapeKind::Mesh => self.meshes[inst.shape.mesh_index() as usize].occluded(&local, *t_max),
+                _ => inst.shape.intersect_with(&self.shape_tables, &local, *t_max).is_some(),
+            }
+        };
         let mut blocked = false;
         self.bvh.traverse_with(lanes, Order::Any, &self.instances, ray, &mut t_max.clone(), |i, t| {
             blocked = hits(i, t);
             blocked
         });
         blocked || (self.bounded_count..self.instances.len()).any(|i| hits(i as u32, &mut t_max.clone()))
-    }
-
-    /// Whether instance `index` blocks the segment `0 < t < t_max` of `ray` (a world
-    /// ray): the any-hit test of one instance, for single rays and packets alike.
-    #[inline(always)]
-    pub(crate) fn instance_blocks(&self, index: u32, ray: &Ray, t_max: f32) -> bool {
-        if self.casts_no_shadow(index) {
-            return false;
-        }
-        let inst = &self.instances[index as usize];
-        let local = self.transform_at(inst, ray.time).ray_to_object(ray);
-        match inst.shape.kind {
-            ShapeKind::Mesh => self.meshes[inst.shape.mesh_index() as usize].occluded(&local, t_max),
-            _ => inst.shape.intersect_with(&self.shape_tables, &local, t_max).is_some(),
-        }
     }
 
     /// The fraction of light that crosses the segment `0 < t < t_max`: zero if an opaque

@@ -200,10 +200,8 @@ pub trait ShadowRays {
     /// then takes the light it would add unshadowed.
     fn filter(&mut self, scene: &RenderScene, ray: &Ray, t_max: f32) -> Option<Vec3>;
 
-    /// Keeps `light`, what the shadow ray last put aside adds times its filter. `slot`
-    /// numbers the light sample the ray goes to, the same at every hit (lights in order,
-    /// each light's samples in order), so rays to one light sample can be traced together.
-    fn defer(&mut self, ray: &Ray, t_max: f32, light: Vec3, slot: u32);
+    /// Keeps `light`, what the shadow ray last put aside adds times its filter.
+    fn defer(&mut self, ray: &Ray, t_max: f32, light: Vec3);
 }
 
 /// Shadow rays traced as they come, one by one.
@@ -221,7 +219,7 @@ impl ShadowRays for TracedNow {
         })
     }
 
-    fn defer(&mut self, _: &Ray, _: f32, _: Vec3, _: u32) {
+    fn defer(&mut self, _: &Ray, _: f32, _: Vec3) {
         unreachable!("shadow rays traced now are never put aside")
     }
 }
@@ -263,11 +261,9 @@ fn direct_lighting(
     let outside = hit.geometric_normal.dot(n) >= 0.0;
     let ng = if outside { hit.geometric_normal } else { -hit.geometric_normal };
     let shadow_origin = offset_ray_origin(if outside { hit.shadow_point } else { hit.point }, ng);
-    let mut slot = 0;
     for (light_index, light) in scene.lights.iter().enumerate() {
         // An area light is the sum of its stratified samples; the others have one.
         for index in 0..light.sample_count() {
-            slot += 1;
             // Point-like lights ignore the jitter: skipping it leaves an area light
             // listed after them the numbers it always drew.
             let jitter = if !light.is_point_like() {
@@ -287,7 +283,7 @@ fn direct_lighting(
                 let shadow_ray = Ray::new(shadow_origin, incidence.to_light).at_time(time);
                 let Some(filter) = shadows.filter(scene, &shadow_ray, incidence.distance) else {
                     let light = incidence.radiance * (diffuse * n_dot_l + m.specular * highlight());
-                    shadows.defer(&shadow_ray, incidence.distance, light, slot);
+                    shadows.defer(&shadow_ray, incidence.distance, light);
                     continue;
                 };
                 observer.shadow_ray(&shadow_ray, incidence.distance, filter);

@@ -101,7 +101,7 @@ fn every_path(mesh: &Mesh, rays: &[Ray], t_max: f32) -> Vec<(&'static str, Found
             "portable packet",
             packet(
                 &|t, h| mesh.intersect_packet_on(Portable, rays, all, t, h),
-                mesh.occluded_packet_on(Portable, rays, all, &[t_max; PACKET]),
+                mesh.occluded_packet_on(Portable, rays, t_max),
             ),
         ),
     ];
@@ -118,7 +118,7 @@ fn every_path(mesh: &Mesh, rays: &[Ray], t_max: f32) -> Vec<(&'static str, Found
         paths.push((
             "AVX2 packet",
             packet(&|t, h| unsafe { mesh.intersect_packet_avx2(avx, rays, all, t, h) }, unsafe {
-                mesh.occluded_packet_avx2(avx, rays, all, &[t_max; PACKET])
+                mesh.occluded_packet_avx2(avx, rays, t_max)
             }),
         ));
     }

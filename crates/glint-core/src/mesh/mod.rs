@@ -290,17 +290,9 @@ impl Mesh {
     /// [`Mesh::occluded`] for up to [`PACKET`] coherent rays: bit `i` of the result is
     /// set where `rays[i]` is blocked.
     pub fn occluded_packet(&self, rays: &[Ray], t_max: f32) -> u32 {
-        let all = (1u32 << rays.len().min(PACKET)) - 1;
-        self.occluded_rays(rays, all, &[t_max; PACKET])
-    }
-
-    /// [`Mesh::occluded_packet`] for the rays of mask `active`, each over its own
-    /// segment `0 < t < t_max[i]`: shadow rays from neighbouring hits to one light
-    /// (each ends at the light) go in one packet.
-    pub fn occluded_rays(&self, rays: &[Ray], active: u32, t_max: &[f32; PACKET]) -> u32 {
         crate::accel::lanes::on_avx2_or!(
-            |avx| self.occluded_packet_avx2(avx, rays, active, t_max),
-            self.occluded_packet_on(Portable, rays, active, t_max)
+            |avx| self.occluded_packet_avx2(avx, rays, t_max),
+            self.occluded_packet_on(Portable, rays, t_max)
         )
     }
 
@@ -319,14 +311,8 @@ impl Mesh {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn occluded_packet_avx2(
-        &self,
-        avx: crate::accel::lanes::Avx2,
-        rays: &[Ray],
-        active: u32,
-        t_max: &[f32; PACKET],
-    ) -> u32 {
-        self.occluded_packet_on(avx, rays, active, t_max)
+    fn occluded_packet_avx2(&self, avx: crate::accel::lanes::Avx2, rays: &[Ray], t_max: f32) -> u32 {
+        self.occluded_packet_on(avx, rays, t_max)
     }
 
     /// The watertight rays of the packet's rays in `active`, and the mask of those that
@@ -395,17 +381,17 @@ impl Mesh {
     }
 
     #[inline(always)]
-    fn occluded_packet_on<L: Lanes>(&self, lanes: L, rays: &[Ray], active: u32, t_max: &[f32; PACKET]) -> u32 {
+    fn occluded_packet_on<L: Lanes>(&self, lanes: L, rays: &[Ray], t_max: f32) -> u32 {
         assert!(rays.len() <= PACKET, "at most {PACKET} rays");
-        let (wrays, valid) = Self::packet_rays(rays, active);
+        let (wrays, active) = Self::packet_rays(rays, u32::MAX);
         let blocked = std::cell::Cell::new(0);
         self.bvh.traverse_hybrid(
             lanes,
             Order::Any,
             &self.packets,
             rays,
-            active & valid,
-            &mut t_max.clone(),
+            active,
+            &mut [t_max; PACKET],
             |packet, in_leaf, t| {
                 let packet = &self.packets[packet as usize];
                 let now = bits(in_leaf)

@@ -236,14 +236,6 @@ proptest! {
             prop_assert_eq!(*hit, expected);
             prop_assert_eq!(t[i], expected.map_or(t_max, |h| h.t));
         }
-        prop_assert_eq!(blocked, mesh.occluded_packet_on(crate::accel::lanes::Portable, &rays, all, &[t_max; PACKET]));
-        // Each ray over its own segment, some rays left out: as each alone.
-        let each: [f32; PACKET] = std::array::from_fn(|i| t_max * (i + 1) as f32 / PACKET as f32);
-        let some = all & 0b0110_1101;
-        let expected = (0..rays.len())
-            .filter(|&i| some >> i & 1 == 1)
-            .fold(0u32, |m, i| m | u32::from(mesh.occluded(&rays[i], each[i])) << i);
-        prop_assert_eq!(expected, mesh.occluded_rays(&rays, some, &each));
-        prop_assert_eq!(expected, mesh.occluded_packet_on(crate::accel::lanes::Portable, &rays, some, &each));
+        prop_assert_eq!(blocked, mesh.occluded_packet_on(crate::accel::lanes::Portable, &rays, t_max));
     }
 }

@@ -8,7 +8,6 @@
 mod checkpoint;
 pub mod inspect;
 mod non_finite;
-mod packets;
 mod parts;
 mod waves;
 mod whitted_waves;
@@ -18,6 +17,7 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
+use crate::accel::PACKET;
 use crate::desc::AdaptiveDesc;
 use crate::desc::IntegratorDesc;
 use crate::film::{Aov, AovImages, FilmTile, Image, linear_to_srgb};
@@ -403,8 +403,9 @@ fn trace_samples_in_waves_avx2(
 }
 
 /// Every sample of every pixel of the tile `(x0, y0, x1, y1)`, splatted into `film` in
-/// pixel order: in waves where the scene is a handful of analytic objects, else with
-/// camera and shadow rays in packets ([`packets::packet_tile`]).
+/// pixel order. Camera rays go out in packets: sample `index` of up to [`PACKET`]
+/// neighbouring pixels of a row at once ([`RenderScene::intersect_packet`]); each is
+/// then shaded on its own.
 fn uniform_tile(scene: &RenderScene, tile: (u32, u32, u32, u32), film: &mut TileFilm, counters: &mut Counters) {
     if let Some(few) = &scene.few_objects {
         return crate::accel::lanes::on_avx2_or!(
@@ -412,7 +413,35 @@ fn uniform_tile(scene: &RenderScene, tile: (u32, u32, u32, u32), film: &mut Tile
             whitted_waves::whitted_tile_in_waves(scene, few, tile, film, counters)
         );
     }
-    packets::packet_tile(scene, tile, film, counters);
+    let (x0, y0, x1, y1) = tile;
+    let s = &scene.settings;
+    let count = s.spp as usize;
+    // Per pixel of a run, per sample: film position, value and AOVs.
+    let mut values: Vec<Traced> = (0..PACKET * count)
+        .map(|_| Traced { fx: 0.0, fy: 0.0, value: Vec3::ZERO, aov: Aov::default(), culprit: None })
+        .collect();
+    for py in y0..y1 {
+        for run_x in (x0..x1).step_by(PACKET) {
+            let run = (x1 - run_x).min(PACKET as u32) as usize;
+            for index in 0..count as u32 {
+                let mut samples: [CameraSample; PACKET] =
+                    std::array::from_fn(|k| camera_sample(scene, &s.sampler, run_x + k.min(run - 1) as u32, py, index));
+                let rays: [Ray; PACKET] = std::array::from_fn(|k| samples[k].ray);
+                let mut hits = [None; PACKET];
+                scene.intersect_packet(&rays[..run], &mut hits[..run]);
+                for (k, sample) in samples.iter_mut().enumerate().take(run) {
+                    let value = whitted::shade(scene, &sample.ray, hits[k], 0, Vec3::ONE, &mut sample.ctx);
+                    counters.rays += sample.ctx.counters.rays;
+                    let aov = whitted_aov(scene, &sample.ray, hits[k].as_ref(), sample.ctx.footprint_scale);
+                    let culprit = sample.ctx.counters.non_finite_at;
+                    values[k * count + index as usize] = Traced { fx: sample.fx, fy: sample.fy, value, aov, culprit };
+                }
+            }
+            for traced in &values[..run * count] {
+                film.splat(traced);
+            }
+        }
+    }
 }
 
 /// [`whitted_waves::whitted_tile_in_waves`] compiled for AVX2, so the lanes of its

@@ -73,7 +73,7 @@ impl ShadowRays for Deferred<'_> {
     }
 
     #[inline(always)]
-    fn defer(&mut self, ray: &Ray, t_max: f32, light: Vec3, _: u32) {
+    fn defer(&mut self, ray: &Ray, t_max: f32, light: Vec3) {
         let light = self.weight * light;
         self.queue.push(PendingShadow { sample: self.sample, ray: *ray, t_max, light, surface: self.surface });
     }

@@ -5,7 +5,7 @@
 
 use super::{Hit, RenderScene};
 use crate::accel::lanes::{Lanes, Portable};
-use crate::accel::{Order, PACKET, bits};
+use crate::accel::{PACKET, bits};
 use crate::math::Ray;
 use crate::shape::{ShapeHit, ShapeKind};
 
@@ -52,88 +52,6 @@ impl RenderScene {
         }
     }
 
-    /// [`RenderScene::occluded`] for up to [`PACKET`] rays at once, each over its own
-    /// segment `0 < t < t_max[i]`: bit `i` of the result is set where `rays[i]` is
-    /// blocked. Any rays give the same answers as alone; coherent ones (shadow rays from
-    /// neighbouring hits to one light) share the traversal of the instance BVH and of
-    /// each mesh's BVH, and rays that part ways go on alone (Embree's hybrid walk).
-    pub fn occluded_packet(&self, rays: &[Ray], t_max: &[f32; PACKET]) -> u32 {
-        crate::accel::lanes::on_avx2_or!(
-            |avx| self.occluded_packet_avx2(avx, rays, t_max),
-            self.occluded_packet_on(Portable, rays, t_max)
-        )
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    fn occluded_packet_avx2(&self, avx: crate::accel::lanes::Avx2, rays: &[Ray], t_max: &[f32; PACKET]) -> u32 {
-        self.occluded_packet_on(avx, rays, t_max)
-    }
-
-    /// [`RenderScene::occluded_packet`] with the instance BVH traversed on the lanes `L`.
-    #[inline(always)]
-    fn occluded_packet_on<L: Lanes>(&self, lanes: L, rays: &[Ray], t_max: &[f32; PACKET]) -> u32 {
-        assert!(rays.len() <= PACKET, "at most {PACKET} rays");
-        if rays.is_empty() {
-            return 0;
-        }
-        let all = (1u32 << rays.len()) - 1;
-        let blocked = std::cell::Cell::new(0);
-        self.bvh.traverse_hybrid(
-            lanes,
-            Order::Any,
-            &self.instances,
-            rays,
-            all,
-            &mut t_max.clone(),
-            |index, in_leaf, t_max| {
-                let now = self.instance_blocks_packet(index, rays, in_leaf, t_max);
-                blocked.set(blocked.get() | now);
-                now
-            },
-            |r, node, t_max| {
-                let mut hit = false;
-                self.bvh.traverse_from(lanes, Order::Any, &self.instances, &rays[r], node, t_max, |index, t_max| {
-                    hit = self.instance_blocks(index, &rays[r], *t_max);
-                    hit
-                });
-                blocked.set(blocked.get() | u32::from(hit) << r);
-                hit
-            },
-        );
-        let mut blocked = blocked.get();
-        for index in self.bounded_count..self.instances.len() {
-            let open = all & !blocked;
-            if open == 0 {
-                break;
-            }
-            blocked |= self.instance_blocks_packet(index as u32, rays, open, t_max);
-        }
-        blocked
-    }
-
-    /// The rays of mask `active` that instance `index` blocks, each over its own
-    /// segment: a mesh's rays go through its BVH as one packet.
-    #[inline(always)]
-    fn instance_blocks_packet(&self, index: u32, rays: &[Ray], active: u32, t_max: &[f32; PACKET]) -> u32 {
-        if self.casts_no_shadow(index) {
-            return 0;
-        }
-        let inst = &self.instances[index as usize];
-        if inst.shape.kind != ShapeKind::Mesh {
-            let mut blocked = 0;
-            for r in bits(active) {
-                blocked |= u32::from(self.instance_blocks(index, &rays[r], t_max[r])) << r;
-            }
-            return blocked;
-        }
-        let mut local_rays = [rays[0]; PACKET];
-        for r in bits(active) {
-            local_rays[r] = self.transform_at(inst, rays[r].time).ray_to_object(&rays[r]);
-        }
-        self.meshes[inst.shape.mesh_index() as usize].occluded_rays(&local_rays[..rays.len()], active, t_max)
-    }
-
     /// Tests the rays of mask `active` against instance `index`, recording closer hits.
     fn intersect_instance(
         &self,
@@ -177,8 +95,8 @@ mod tests {
     use crate::desc::{MaterialDesc, MeshDesc, NodeDesc, NodeKind, SceneDesc, ShapeDesc, TransformOp};
 
     /// The portable lanes and the dispatched ones (AVX2 where the CPU has it) find the
-    /// same hits and occlusion, single rays and packets (closest hits, and any hits over
-    /// segments of their own length), over a grid of spheres, cubes and mesh instances.
+    /// same hits and occlusion, single rays and packets, over a grid of spheres, cubes
+    /// and mesh instances.
     #[test]
     fn portable_and_dispatched_paths_agree() {
         let tetrahedron = MeshDesc {
@@ -208,7 +126,7 @@ mod tests {
         // compare a path with itself.
         let avx2 = crate::accel::lanes::avx2_or_skip("scene::packet::portable_and_dispatched_paths_agree");
         let key = |h: Option<Hit>| h.map(|h| (h.t, h.point, h.material));
-        let (mut hit, mut blocked) = (0, 0);
+        let mut hit = 0;
         for row in 0..40 {
             let rays: Vec<Ray> = (0..8)
                 .map(|k| {
@@ -220,12 +138,6 @@ mod tests {
             let mut portable = [None; PACKET];
             scene.intersect_packet(&rays, &mut dispatched);
             scene.intersect_packet_on(Portable, &rays, &mut portable);
-            // Shadow-like segments of different lengths: packets against single rays.
-            let t_max: [f32; PACKET] = std::array::from_fn(|k| 4.0 + (row * 3 + k) as f32 % 9.0);
-            let alone = (0..rays.len()).fold(0, |m, r| m | u32::from(scene.occluded(&rays[r], t_max[r])) << r);
-            assert_eq!(alone, scene.occluded_packet(&rays, &t_max));
-            assert_eq!(alone, scene.occluded_packet_on(Portable, &rays, &t_max));
-            blocked += alone.count_ones();
             for (r, ray) in rays.iter().enumerate() {
                 let single = scene.intersect(ray, f32::INFINITY);
                 // Packets against single rays, on each path.
@@ -240,6 +152,5 @@ mod tests {
             }
         }
         assert!((60..300).contains(&hit), "{hit} of 320 rays hit: the test should see hits and misses");
-        assert!((40..280).contains(&blocked), "{blocked} of 320 segments blocked: the test should see both");
     }
 }
