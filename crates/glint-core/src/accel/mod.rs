@@ -9,5 +9,5 @@ mod wide;
 
 pub use bvh::{Bvh, BvhNode};
 pub use huge_pages::{on_huge_pages, with_capacity_on_huge_pages};
-pub use packet::{PACKET, bits};
+pub use packet::{PACKET, bits, one_octant};
 pub use wide::{EMPTY, Order, WIDTH, WideBvh, WideNode};

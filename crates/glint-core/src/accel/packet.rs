@@ -50,7 +50,7 @@ pub fn bits(mut mask: u32) -> impl Iterator<Item = usize> {
 /// their direction's components). Rays of different octants share few nodes below the
 /// root; Embree's hybrid walk, too, keeps only rays of one octant in a packet.
 #[inline(always)]
-fn one_octant(rays: &[Ray], active: u32) -> bool {
+pub fn one_octant(rays: &[Ray], active: u32) -> bool {
     let (all, any) = bits(active).fold((7, 0), |(all, any), r| {
         let signs = rays[r].dir.is_negative_bitmask();
         (all & signs, any | signs)
@@ -147,8 +147,9 @@ impl WideBvh {
         // The frustum ends where its farthest ray does: shadow rays end at their light.
         // Any-hit rays keep their `t_max` until they are done, so that is known now.
         let fixed_far = (order == Order::Any).then(|| farthest(active, t_max));
-        let slabs: Option<[SlabRay<L>; PACKET]> =
-            frustum.is_none().then(|| std::array::from_fn(|r| SlabRay::new(lanes, &rays[r.min(rays.len() - 1)])));
+        // Scattered rays all go on alone from the root, so they need no packet slabs.
+        let slabs: Option<[SlabRay<L>; PACKET]> = (frustum.is_none() && !scattered)
+            .then(|| std::array::from_fn(|r| SlabRay::new(lanes, &rays[r.min(rays.len() - 1)])));
         let mut done = 0u32;
         // Left uninitialized, as in the single-ray traversal.
         let mut stack = [MaybeUninit::<Entry>::uninit(); STACK];
