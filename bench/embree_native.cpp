@@ -8,7 +8,7 @@
 // `glint bench --json`'s; every closest hit is checked against the file's reference.
 //
 // Build: g++ -O2 -std=c++17 embree_native.cpp -lembree3 -lpthread -o embree_native
-// Usage: [EMBREE_ROBUST=1] embree_native FILE THREADS ROUNDS
+// Usage: [EMBREE_ROBUST=1] [EMBREE_ISA=avx2] embree_native FILE THREADS ROUNDS
 #include <embree3/rtcore.h>
 
 #include <algorithm>
@@ -219,6 +219,9 @@ int main(int argc, char** argv) {
     }
     int threads = std::max(1, std::atoi(argv[2])), rounds = std::max(1, std::atoi(argv[3]));
     std::string config = "threads=" + std::to_string(threads);
+    // EMBREE_ISA=avx2 (or sse4.2, avx512): the kernels Embree may pick; by default the
+    // best the CPU has (AVX-512 on some of these VMs, where glint uses AVX2).
+    if (const char* isa = std::getenv("EMBREE_ISA"); isa && *isa) config += std::string(",isa=") + isa;
     RTCDevice device = rtcNewDevice(config.c_str());
     // Build: best of 3, wall and process CPU seconds, on the device's threads.
     double build_wall = 1e30, build_cpu = 1e30;

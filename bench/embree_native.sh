@@ -14,7 +14,8 @@
 # Usage: bench/embree_native.sh [GLBENCH1 file]    (default: glint bench's 1M-triangle scene)
 # Environment: NO_BUILD=1 skips `cargo build`; QUICK=1 uses the 40,000-triangle scene;
 # REPEATS (3) interleaved rounds; ROUNDS (5) timed runs per query; THREADS ("1 2");
-# GLINT, the glint binary (default: target/release/glint).
+# GLINT, the glint binary (default: target/release/glint); EMBREE_ISA (e.g. avx2), the
+# kernels Embree may use (default: the best the CPU has; glint uses AVX2).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$root"
