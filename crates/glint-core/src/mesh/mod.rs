@@ -324,6 +324,7 @@ impl Mesh {
     /// The watertight rays of the packet's rays in `active`, and the mask of those that
     /// have one (the others are left out: a mesh instance gets only the rays that
     /// entered its box, transformed into its space).
+    ///
     /// Written into `prepared`, not returned: returned, the 2 KiB array was copied once
     /// per packet (`memcpy`, about a tenth of a random packet's own work).
     #[inline(always)]
