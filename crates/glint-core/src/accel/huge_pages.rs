@@ -47,6 +47,11 @@ fn advise_huge(address: usize, len: usize) {
     // not written yet; MADV_HUGEPAGE changes how it is backed, never its contents. A
     // failure (a kernel without THP) leaves ordinary pages, which is fine.
     unsafe { libc::madvise(address as *mut libc::c_void, len, libc::MADV_HUGEPAGE) };
+    // SAFETY: as above, and nothing in the range has been written: dropping its pages
+    // loses nothing. Memory the allocator reuses (a freed array of an earlier build)
+    // is already backed by small pages, which the advice alone leaves as they are; the
+    // next write faults in fresh ones, huge where the kernel can.
+    unsafe { libc::madvise(address as *mut libc::c_void, len, libc::MADV_DONTNEED) };
 }
 
 #[cfg(not(target_os = "linux"))]
