@@ -643,20 +643,16 @@ fn choose_gpu(
     match device {
         DeviceArg::Cpu => Ok(None),
         DeviceArg::Gpu => Ok(Some(glint_gpu::Gpu::new()?)),
-        DeviceArg::Auto => match glint_gpu::Gpu::new() {
-            Ok(gpu) if gpu.is_hardware() => match glint_gpu::upload::beyond_adapter(&gpu, scene) {
+        DeviceArg::Auto => match glint_gpu::Gpu::open_hardware() {
+            Ok(gpu) => match glint_gpu::upload::beyond_adapter(&gpu, scene) {
                 Some(why) => {
                     note(&format!("the GPU adapter {} cannot: {why}", gpu.describe()));
                     Ok(None)
                 }
                 None => Ok(Some(gpu)),
             },
-            Ok(gpu) => {
-                note(&format!("the only GPU adapter, {}, is a CPU driver", gpu.describe()));
-                Ok(None)
-            }
-            Err(e) => {
-                note(&e.to_string());
+            Err(why) => {
+                note(&why);
                 Ok(None)
             }
         },

@@ -1,5 +1,6 @@
 //! Finding a GPU and opening it, with one clear sentence when that cannot be done.
 
+use crate::hardware;
 use crate::shader::binding;
 
 /// Why the GPU backend cannot render.
@@ -65,6 +66,20 @@ impl Gpu {
         let (device, queue) = pollster::block_on(adapter.request_device(&descriptor))
             .map_err(|e| unsuitable(format!("opening it failed: {e}")))?;
         Ok(Gpu { device, queue, info, limits, loop_cap: std::sync::OnceLock::new() })
+    }
+
+    /// What `--device auto` renders on: the most capable adapter, opened, if it is a
+    /// real GPU; otherwise why glint's own CPU path renders instead. Where the machine
+    /// has no GPU at all ([`hardware::gpu_may_exist`]), Vulkan is not loaded.
+    pub fn open_hardware() -> Result<Gpu, String> {
+        if !hardware::gpu_may_exist() {
+            return Err("this machine has no GPU (no /dev/dri render node, no NVIDIA or WSL GPU device)".into());
+        }
+        let gpu = Gpu::new().map_err(|e| e.to_string())?;
+        if !gpu.is_hardware() {
+            return Err(format!("the only GPU adapter, {}, is a CPU driver", gpu.describe()));
+        }
+        Ok(gpu)
     }
 
     /// Whether the adapter is a real GPU rather than a CPU driver (lavapipe,

@@ -10,6 +10,7 @@
 //! by pixel.
 
 pub mod device;
+pub mod hardware;
 pub mod layout;
 pub mod records;
 pub mod render;
