@@ -459,13 +459,23 @@ impl Mesh {
         let wray = WatertightRay4::new(WatertightRay::new(ray)?);
         let mut best = None;
         let mut t_max = t_max;
-        self.bvh.traverse_with(lanes, Order::NearestFirst, &self.packets, ray, &mut t_max, |packet, t_max| {
-            if let Some((t, tri)) = triangle4::intersect(&wray, &self.packets[packet as usize], *t_max) {
-                *t_max = t;
-                best = Some(ShapeHit { t, part: tri });
-            }
-            false
-        });
+        // The leaf tests inlined: called, they made every vector register the walk keeps
+        // (the ray's slab terms) a spill around the call, reloaded at every node.
+        self.bvh.traverse_with(
+            lanes,
+            Order::NearestFirst,
+            &self.packets,
+            ray,
+            &mut t_max,
+            #[inline(always)]
+            |packet, t_max| {
+                if let Some((t, tri)) = triangle4::intersect(&wray, &self.packets[packet as usize], *t_max) {
+                    *t_max = t;
+                    best = Some(ShapeHit { t, part: tri });
+                }
+                false
+            },
+        );
         best
     }
 
@@ -473,10 +483,18 @@ impl Mesh {
     fn occluded_on<L: Lanes>(&self, lanes: L, ray: &Ray, t_max: f32) -> bool {
         let Some(wray) = WatertightRay::new(ray).map(WatertightRay4::new) else { return false };
         let mut blocked = false;
-        self.bvh.traverse_with(lanes, Order::Any, &self.packets, ray, &mut { t_max }, |packet, t_max| {
-            blocked = triangle4::occluded(&wray, &self.packets[packet as usize], *t_max);
-            blocked
-        });
+        self.bvh.traverse_with(
+            lanes,
+            Order::Any,
+            &self.packets,
+            ray,
+            &mut { t_max },
+            #[inline(always)]
+            |packet, t_max| {
+                blocked = triangle4::occluded(&wray, &self.packets[packet as usize], *t_max);
+                blocked
+            },
+        );
         blocked
     }
 
