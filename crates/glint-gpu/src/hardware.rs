@@ -8,7 +8,7 @@
 //! 120 ms render of a small scene (and printed lavapipe's own complaints) to learn that
 //! the only adapter runs on the CPU, where glint's own CPU path renders instead. A
 //! driver for real hardware opens it through a device node: a DRM render or card node
-//! (`/dev/dri/renderD128`, Mesa's drivers and NVIDIA's open ones), NVIDIA's own
+//! (`/dev/dri/renderD128`: Mesa's drivers, Nouveau's NVK among them), NVIDIA's own
 //! (`/dev/nvidiactl`, `/dev/nvidia0`), or WSL's paravirtual GPU (`/dev/dxg`). Where
 //! none exists, no adapter but a CPU driver can be found.
 
