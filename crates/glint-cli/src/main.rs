@@ -643,14 +643,8 @@ fn choose_gpu(
     match device {
         DeviceArg::Cpu => Ok(None),
         DeviceArg::Gpu => Ok(Some(glint_gpu::Gpu::new()?)),
-        DeviceArg::Auto => match glint_gpu::Gpu::open_hardware() {
-            Ok(gpu) => match glint_gpu::upload::beyond_adapter(&gpu, scene) {
-                Some(why) => {
-                    note(&format!("the GPU adapter {} cannot: {why}", gpu.describe()));
-                    Ok(None)
-                }
-                None => Ok(Some(gpu)),
-            },
+        DeviceArg::Auto => match glint_gpu::Gpu::open_hardware(scene) {
+            Ok(gpu) => Ok(Some(gpu)),
             Err(why) => {
                 note(&why);
                 Ok(None)

@@ -1,5 +1,7 @@
 //! Finding a GPU and opening it, with one clear sentence when that cannot be done.
 
+use glint_core::scene::RenderScene;
+
 use crate::hardware;
 use crate::shader::binding;
 
@@ -68,16 +70,20 @@ impl Gpu {
         Ok(Gpu { device, queue, info, limits, loop_cap: std::sync::OnceLock::new() })
     }
 
-    /// What `--device auto` renders on: the most capable adapter, opened, if it is a
-    /// real GPU; otherwise why glint's own CPU path renders instead. Where the machine
-    /// has no GPU at all ([`hardware::gpu_may_exist`]), Vulkan is not loaded.
-    pub fn open_hardware() -> Result<Gpu, String> {
+    /// What `--device auto` renders `scene` on: the most capable adapter, opened, if it
+    /// is a real GPU that can render everything in the scene; otherwise why glint's own
+    /// CPU path renders instead. Where the machine has no GPU at all
+    /// ([`hardware::gpu_may_exist`]), Vulkan is not loaded.
+    pub fn open_hardware(scene: &RenderScene) -> Result<Gpu, String> {
         if !hardware::gpu_may_exist() {
             return Err("this machine has no GPU (no /dev/dri render node, no NVIDIA or WSL GPU device)".into());
         }
         let gpu = Gpu::new().map_err(|e| e.to_string())?;
         if !gpu.is_hardware() {
             return Err(format!("the only GPU adapter, {}, is a CPU driver", gpu.describe()));
+        }
+        if let Some(why) = crate::upload::beyond_adapter(&gpu, scene) {
+            return Err(format!("the GPU adapter {} cannot: {why}", gpu.describe()));
         }
         Ok(gpu)
     }

@@ -115,13 +115,7 @@ fn choose_gpu(device: Device, viewer: &Viewer) -> Result<Option<&'static glint_g
     }
     let chosen = match device {
         Device::Gpu => Ok(glint_gpu::Gpu::new().map_err(|e| e.to_string())?),
-        _ => glint_gpu::Gpu::open_hardware().and_then(|gpu| {
-            let scene = viewer.scene().lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-            match glint_gpu::upload::beyond_adapter(&gpu, &scene) {
-                Some(why) => Err(format!("the GPU adapter {} cannot: {why}", gpu.describe())),
-                None => Ok(gpu),
-            }
-        }),
+        _ => glint_gpu::Gpu::open_hardware(&viewer.scene().lock().unwrap_or_else(std::sync::PoisonError::into_inner)),
     };
     match chosen {
         Ok(gpu) => {
