@@ -15,7 +15,7 @@ const GLYPH: i32 = 8;
 /// How far a ray that meets nothing is drawn, in multiples of the camera's distance.
 const MISS_LENGTH: f32 = 4.0;
 
-/// A canvas of 0x00RRGGBB pixels, the layout softbuffer presents.
+/// A canvas of 0x00RRGGBB pixels, the layout an X11 window of depth 24 takes.
 pub struct Canvas {
     pub width: u32,
     pub height: u32,

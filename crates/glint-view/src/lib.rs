@@ -12,6 +12,7 @@ pub mod draw;
 pub mod explain;
 pub mod headless;
 pub mod pass;
+mod present;
 pub mod runner;
 pub mod viewer;
 pub mod watch;

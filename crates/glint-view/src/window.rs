@@ -1,9 +1,8 @@
 //! The window: winit turns the user's actions into [`Input`]s for the viewer, the
-//! render thread runs its passes, and softbuffer shows each new picture. Nothing here
+//! render thread runs its passes, and [`Presenter`] shows each new picture. Nothing here
 //! decides anything; the [`Viewer`] does.
 
 use std::collections::HashSet;
-use std::num::NonZeroU32;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
 use std::time::{Duration, Instant};
@@ -17,6 +16,7 @@ use winit::window::{Window, WindowId};
 
 use crate::draw::{Canvas, compose};
 use crate::pass::Finished;
+use crate::present::Presenter;
 use crate::viewer::{Input, Toggle, Viewer};
 use crate::watch::Watcher;
 use crate::worker::Worker;
@@ -55,7 +55,8 @@ pub fn run(viewer: Viewer, files: Files) -> Result<(), String> {
         watcher,
         next_poll: Instant::now() + POLL_EVERY,
         window: None,
-        surface: None,
+        presenter: None,
+        frame: Vec::new(),
         mouse: Mouse::default(),
         keys: HashSet::new(),
         modifiers: ModifiersState::empty(),
@@ -69,8 +70,6 @@ pub fn run(viewer: Viewer, files: Files) -> Result<(), String> {
 fn no_window(e: &dyn std::fmt::Display) -> String {
     format!("cannot open a window ({e}); is DISPLAY set? `glint view --no-window` renders without one")
 }
-
-type Surface = softbuffer::Surface<Rc<Window>, Rc<Window>>;
 
 /// The buttons held and where the cursor was.
 #[derive(Default)]
@@ -88,7 +87,9 @@ struct App {
     watcher: Option<Watcher>,
     next_poll: Instant,
     window: Option<Rc<Window>>,
-    surface: Option<Surface>,
+    presenter: Option<Presenter>,
+    /// The picture scaled to the window, where their sizes differ.
+    frame: Vec<u32>,
     mouse: Mouse,
     keys: HashSet<KeyCode>,
     modifiers: ModifiersState,
@@ -150,8 +151,7 @@ impl App {
             .with_title(format!("glint view - {name}"))
             .with_inner_size(winit::dpi::PhysicalSize::new(width, height));
         let window = Rc::new(event_loop.create_window(attributes).map_err(|e| no_window(&e))?);
-        let context = softbuffer::Context::new(Rc::clone(&window)).map_err(|e| no_window(&e))?;
-        self.surface = Some(Surface::new(&context, Rc::clone(&window)).map_err(|e| no_window(&e))?);
+        self.presenter = Some(Presenter::new(&window).map_err(|e| no_window(&e))?);
         self.window = Some(window);
         self.dispatch();
         Ok(())
@@ -186,16 +186,21 @@ impl App {
     /// Shows the composed picture, scaled to the window if their sizes differ (for the
     /// moment between a resize and the first pass at the new size).
     fn present(&mut self) {
-        let (Some(window), Some(surface)) = (&self.window, &mut self.surface) else { return };
-        let size = window.inner_size();
-        let (Some(width), Some(height)) = (NonZeroU32::new(size.width), NonZeroU32::new(size.height)) else { return };
-        let canvas = compose(&self.viewer);
-        if surface.resize(width, height).is_err() {
+        let (Some(window), Some(presenter)) = (&self.window, &self.presenter) else { return };
+        let (width, height) = (window.inner_size().width, window.inner_size().height);
+        if width == 0 || height == 0 {
             return;
         }
-        let Ok(mut buffer) = surface.buffer_mut() else { return };
-        blit(&canvas, &mut buffer, size.width, size.height);
-        let _ = buffer.present();
+        let canvas = compose(&self.viewer);
+        let pixels = if (canvas.width, canvas.height) == (width, height) {
+            &canvas.pixels
+        } else {
+            self.frame.resize(width as usize * height as usize, 0);
+            blit(&canvas, &mut self.frame, width, height);
+            &self.frame
+        };
+        // A picture the server refused is shown again at the next redraw.
+        let _ = presenter.show(pixels, width, height);
     }
 
     fn cursor(&mut self, at: Vec2) {
