@@ -199,7 +199,8 @@ impl App {
             blit(&canvas, &mut self.frame, width, height);
             &self.frame
         };
-        // A picture the server refused is shown again at the next redraw.
+        // Only a lost connection fails here (the server's complaints are read and
+        // dropped): the window then stays as it is, as softbuffer left it.
         let _ = presenter.show(pixels, width, height);
     }
 
