@@ -4,7 +4,6 @@
 
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
-use std::rc::Rc;
 use std::time::{Duration, Instant};
 
 use glam::{Vec2, Vec3};
@@ -86,7 +85,7 @@ struct App {
     worker: Worker,
     watcher: Option<Watcher>,
     next_poll: Instant,
-    window: Option<Rc<Window>>,
+    window: Option<Window>,
     presenter: Option<Presenter>,
     /// The picture scaled to the window, where their sizes differ.
     frame: Vec<u32>,
@@ -150,7 +149,7 @@ impl App {
         let attributes = Window::default_attributes()
             .with_title(format!("glint view - {name}"))
             .with_inner_size(winit::dpi::PhysicalSize::new(width, height));
-        let window = Rc::new(event_loop.create_window(attributes).map_err(|e| no_window(&e))?);
+        let window = event_loop.create_window(attributes).map_err(|e| no_window(&e))?;
         self.presenter = Some(Presenter::new(&window).map_err(|e| no_window(&e))?);
         self.window = Some(window);
         self.dispatch();
@@ -187,7 +186,8 @@ impl App {
     /// moment between a resize and the first pass at the new size).
     fn present(&mut self) {
         let (Some(window), Some(presenter)) = (&self.window, &self.presenter) else { return };
-        let (width, height) = (window.inner_size().width, window.inner_size().height);
+        let size = window.inner_size();
+        let (width, height) = (size.width, size.height);
         if width == 0 || height == 0 {
             return;
         }
