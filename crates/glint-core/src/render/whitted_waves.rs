@@ -96,7 +96,37 @@ pub(super) fn whitted_tile_in_waves(
             requests.extend((0..spp).map(|index| (px, py, index)));
         }
     }
-    trace_samples_in_waves(scene, few, &scene.settings.sampler, &requests, counters, |_, traced| film.splat(traced));
+    let seen = seen_by_camera(scene, few, (x0, y0, x1, y1));
+    let objects = Objects { all: few, seen_by_camera: seen.as_ref().unwrap_or(few) };
+    trace_requests(scene, objects, &scene.settings.sampler, &requests, counters, |_, traced| film.splat(traced));
+}
+
+/// The objects a wave is traced against: all of them, or, for a wave of camera rays
+/// only, those the tile's camera rays can meet.
+#[derive(Clone, Copy)]
+struct Objects<'a> {
+    all: &'a FewObjects,
+    seen_by_camera: &'a FewObjects,
+}
+
+/// The objects of `few` that the camera rays through the pixels `(x0, y0)`–`(x1, y1)`
+/// can meet ([`FewObjects::seen_from`]), for a pinhole camera; `None` for a lens,
+/// whose rays start anywhere on it.
+fn seen_by_camera(scene: &RenderScene, few: &FewObjects, (x0, y0, x1, y1): (u32, u32, u32, u32)) -> Option<FewObjects> {
+    let camera = &scene.camera;
+    if camera.aperture_radius > 0.0 {
+        return None;
+    }
+    let (width, height) = (scene.settings.width as f32, scene.settings.height as f32);
+    // A pixel wider on every side than the samples reach, as `camera_ray` maps them.
+    let (left, right) = (x0 as f32 - 1.0, x1 as f32 + 1.0);
+    let (top, bottom) = (y0 as f32 - 1.0, y1 as f32 + 1.0);
+    let direction = |fx: f32, fy: f32| {
+        let film = Vec3::new(2.0 * fx / width - 1.0, 1.0 - 2.0 * fy / height, -1.0);
+        camera.world_from_canonical.transform_point3(film) - camera.eye
+    };
+    let corners = [direction(left, top), direction(right, top), direction(right, bottom), direction(left, bottom)];
+    Some(few.seen_from(camera.eye, corners))
 }
 
 /// Traces the samples `(px, py, index)` that `requests` names, at the positions
@@ -106,6 +136,20 @@ pub(super) fn whitted_tile_in_waves(
 pub(super) fn trace_samples_in_waves(
     scene: &RenderScene,
     few: &FewObjects,
+    sampler: &PixelSampler,
+    requests: &[(u32, u32, u32)],
+    counters: &mut Counters,
+    done: impl FnMut((u32, u32, u32), &Traced),
+) {
+    let objects = Objects { all: few, seen_by_camera: few };
+    trace_requests(scene, objects, sampler, requests, counters, done);
+}
+
+/// [`trace_samples_in_waves`] against `objects`.
+#[inline(always)]
+fn trace_requests(
+    scene: &RenderScene,
+    objects: Objects,
     sampler: &PixelSampler,
     requests: &[(u32, u32, u32)],
     counters: &mut Counters,
@@ -135,7 +179,7 @@ pub(super) fn trace_samples_in_waves(
         // Pushed in reverse and popped from the end: the batch's first rays go first.
         let camera_rays = cameras.iter().enumerate().rev();
         rays.extend(camera_rays.map(|(k, c)| Pending { sample: k as u32, ray: c.ray, weight: Vec3::ONE, depth: 0 }));
-        trace_batch(scene, few, &mut samples, &mut rays, &mut shadows);
+        trace_batch(scene, objects, &mut samples, &mut rays, &mut shadows);
         for (&request, sample) in batch.iter().zip(&mut samples) {
             counters.rays += sample.ctx.counters.rays;
             sample.traced.culprit = sample.ctx.counters.non_finite_at;
@@ -149,7 +193,7 @@ pub(super) fn trace_samples_in_waves(
 #[inline(always)]
 fn trace_batch(
     scene: &RenderScene,
-    few: &FewObjects,
+    objects: Objects,
     samples: &mut [Sample],
     rays: &mut Vec<Pending>,
     shadows: &mut Vec<PendingShadow>,
@@ -164,6 +208,8 @@ fn trace_batch(
         for (lane, pending) in wave.iter().enumerate() {
             lanes.set(lane, &pending.ray, f32::INFINITY, false);
         }
+        let camera_rays_only = wave.iter().all(|pending| pending.depth == 0);
+        let few = if camera_rays_only { objects.seen_by_camera } else { objects.all };
         let hits = few.trace(&lanes);
         for (lane, pending) in wave.iter().enumerate() {
             let sample = &mut samples[pending.sample as usize];
@@ -194,12 +240,12 @@ fn trace_batch(
         }
         while shadows.len() >= WAVE {
             let at = shadows.len() - WAVE;
-            resolve_shadows(scene, few, samples, &shadows[at..]);
+            resolve_shadows(scene, objects.all, samples, &shadows[at..]);
             shadows.truncate(at);
         }
     }
     if !shadows.is_empty() {
-        resolve_shadows(scene, few, samples, shadows);
+        resolve_shadows(scene, objects.all, samples, shadows);
         shadows.clear();
     }
 }

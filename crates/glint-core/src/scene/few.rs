@@ -112,6 +112,11 @@ const LANE_KINDS: [ShapeKind; 7] = [
     ShapeKind::Plane,
 ];
 
+/// Where `kind` comes in [`LANE_KINDS`] (after them all if it is not one).
+fn kind_rank(kind: ShapeKind) -> usize {
+    LANE_KINDS.iter().position(|&k| k == kind).unwrap_or(LANE_KINDS.len())
+}
+
 /// The scene's objects, when there are few enough of kinds the lanes know, for
 /// tracing waves of rays by testing each object once.
 #[derive(Clone, Debug)]
@@ -136,11 +141,48 @@ impl FewObjects {
             .enumerate()
             .map(|(index, inst)| lane_object(scene, index as u32, inst))
             .collect::<Option<Vec<_>>>()?;
-        let rank = |kind: ShapeKind| LANE_KINDS.iter().position(|&k| k == kind).unwrap_or(LANE_KINDS.len());
         // Stable: within a kind the scene's order, as the BVH-free loop had it.
-        objects.sort_by_key(|o| rank(o.kind));
-        let ends = std::array::from_fn(|k| objects.iter().take_while(|o| rank(o.kind) <= k).count());
-        Some(FewObjects { objects, ends })
+        objects.sort_by_key(|o| kind_rank(o.kind));
+        Some(FewObjects::grouped(objects))
+    }
+
+    /// `objects`, already in the order of [`LANE_KINDS`], with each kind's group marked.
+    fn grouped(objects: Vec<LaneObject>) -> FewObjects {
+        let ends = std::array::from_fn(|k| objects.iter().take_while(|o| kind_rank(o.kind) <= k).count());
+        FewObjects { objects, ends }
+    }
+
+    /// The objects that rays from `eye` can meet in directions inside the pyramid whose
+    /// edges are `corners` (in order around it), in the same order: a tile's camera rays
+    /// need test no other. An object stays unless its box lies wholly outside one of the
+    /// pyramid's sides, so the rays find exactly the hits they find among all objects;
+    /// planes, which have no box, always stay. Most of a tile's camera rays then test
+    /// one to three objects of a Whitted scene's seven.
+    pub fn seen_from(&self, eye: Vec3, corners: [Vec3; 4]) -> FewObjects {
+        let centre = corners.iter().sum::<Vec3>();
+        // The four sides, facing in, and the plane through the eye across the pyramid,
+        // facing forward where every edge points forward (as a tile's do). A box is
+        // kept when each plane has one of its corners inside, not necessarily the same
+        // corner: a large box behind the eye passes every side so, but not that plane.
+        let sides: [Vec3; 5] = std::array::from_fn(|k| match k {
+            4 if corners.iter().all(|c| c.dot(centre) > 0.0) => centre,
+            4 => Vec3::ZERO,
+            _ => {
+                let side = corners[k].cross(corners[(k + 1) % 4]);
+                if side.dot(centre) < 0.0 { -side } else { side }
+            }
+        });
+        if !sides.iter().all(|side| side.is_finite()) {
+            return self.clone();
+        }
+        let inside_every_side = |(min, max): ([f32; 3], [f32; 3])| {
+            let corner =
+                |k: usize| Vec3::new([min[0], max[0]][k & 1], [min[1], max[1]][(k >> 1) & 1], [min[2], max[2]][k >> 2]);
+            // A degenerate side (zero) keeps everything: 0 ≥ 0.
+            sides.iter().all(|side| (0..8).any(|k| side.dot(corner(k) - eye) >= 0.0))
+        };
+        let objects = self.objects.iter().filter(|o| o.bounds.is_none_or(inside_every_side)).copied().collect();
+        FewObjects::grouped(objects)
     }
 
     /// The objects of kind `LANE_KINDS[k]`.
@@ -812,6 +854,47 @@ mod tests {
         }
         // Every object, of every kind, is the nearest hit of some ray.
         assert!(found_on.iter().all(|&found| found), "{found_on:?}");
+    }
+
+    #[test]
+    fn rays_inside_a_pyramid_find_among_the_objects_seen_from_its_apex_the_hits_they_find_among_all() {
+        let scene = scene();
+        let few = FewObjects::of(&scene).unwrap();
+        let eye = Vec3::new(0.1, 0.2, 3.5);
+        let mut rng = crate::sampling::Rng::new(5);
+        let (mut culled, mut hits_compared) = (0, 0);
+        for _ in 0..300 {
+            // A narrow pyramid towards a point of the box, its sides a few degrees apart.
+            let mut next = || 2.0 * rng.next_f32() - 1.0;
+            let centre = Vec3::new(next(), next(), next()) * 1.2 - eye;
+            let (side, up) = (centre.cross(Vec3::Y).normalize() * 0.15, centre.cross(Vec3::X).normalize() * 0.15);
+            let corners = [centre - side + up, centre + side + up, centre + side - up, centre - side - up];
+            let seen = few.seen_from(eye, corners);
+            culled += usize::from(seen.objects.len() < few.objects.len());
+            for _ in 0..4 {
+                // Eight rays inside the pyramid, its edges among them.
+                let mut wave = RayWave::default();
+                for lane in 0..WAVE {
+                    let (a, b) = if lane == 0 { (0.0, 0.0) } else { (0.5 + 0.5 * next(), 0.5 + 0.5 * next()) };
+                    let dir = corners[0].lerp(corners[1], a).lerp(corners[3].lerp(corners[2], a), b);
+                    wave.set(lane, &Ray::new(eye, dir), f32::INFINITY, false);
+                }
+                let (all, among_seen) = (few.trace(&wave), seen.trace(&wave));
+                assert_eq!((all.t, all.object, all.part), (among_seen.t, among_seen.object, among_seen.part));
+                hits_compared += all.object.iter().filter(|&&o| o != NO_OBJECT).count();
+            }
+        }
+        // The pyramids leave objects out, and their rays hit things, so both sides count.
+        assert!(culled > 150 && hits_compared > 5000, "{culled} pyramids culled, {hits_compared} hits");
+        // Looking away from everything, only the plane (unbounded) stays.
+        let away = [
+            Vec3::new(-0.1, 0.1, 1.0),
+            Vec3::new(0.1, 0.1, 1.0),
+            Vec3::new(0.1, -0.1, 1.0),
+            Vec3::new(-0.1, -0.1, 1.0),
+        ];
+        let kinds: Vec<ShapeKind> = few.seen_from(eye, away).objects.iter().map(|o| o.kind).collect();
+        assert_eq!(kinds, [ShapeKind::Plane]);
     }
 
     #[test]
