@@ -442,14 +442,21 @@ fn run_render(args: &RenderArgs) -> Result<(), Failure> {
     let cancel = Arc::new(AtomicBool::new(false));
     let handler_flag = Arc::clone(&cancel);
     ctrlc::set_handler(move || handler_flag.store(true, Ordering::Relaxed))?;
-    let first = load(args.scene.as_deref(), 0.0)?;
-    match frames::plan(args, &first)? {
-        None => render_scene_to(args, first, &args.output, &cancel),
-        Some(frames) => frames::render_all(args, &frames, &cancel),
-    }
+    // One pool of the threads `--threads` asks for runs everything: loading, building
+    // the BVHs, tracing and encoding (compiled outside it, a mesh's BVH was built on
+    // rayon's global pool of every core, whose threads also cost a small render's start).
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(args.threads).build()?;
+    pool.install(|| {
+        let first = load(args.scene.as_deref(), 0.0)?;
+        match frames::plan(args, &first)? {
+            None => render_scene_to(args, first, &args.output, &cancel),
+            Some(frames) => frames::render_all(args, &frames, &cancel),
+        }
+    })
 }
 
-/// Renders `desc` with the command line's settings and writes the image to `output`.
+/// Renders `desc` with the command line's settings and writes the image to `output`,
+/// on the current rayon pool.
 fn render_scene_to(args: &RenderArgs, mut desc: SceneDesc, output: &Path, cancel: &AtomicBool) -> Result<(), Failure> {
     let format = output_format(args.format, output)?;
     if !args.aov.is_empty() && format != OutputFormat::Exr {
@@ -483,7 +490,6 @@ fn render_scene_to(args: &RenderArgs, mut desc: SceneDesc, output: &Path, cancel
         eprintln!("glint: resuming: {saved} of {total} tiles were done");
     }
 
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(args.threads).build()?;
     let bar = progress_bar(args.quiet);
     let start = Instant::now();
     let transfer = desc.settings.output_transfer;
@@ -498,19 +504,17 @@ fn render_scene_to(args: &RenderArgs, mut desc: SceneDesc, output: &Path, cancel
     let fresh_store = TileStore::default();
     let store = checkpointer.as_ref().map_or(&fresh_store, Checkpointer::store);
     let mut render = || {
-        pool.install(|| {
-            render_progressive(
-                &scene,
-                store,
-                first_block,
-                &mut on_pass,
-                &|done, total| {
-                    bar.set_length(total as u64);
-                    bar.set_position(done as u64);
-                },
-                cancel,
-            )
-        })
+        render_progressive(
+            &scene,
+            store,
+            first_block,
+            &mut on_pass,
+            &|done, total| {
+                bar.set_length(total as u64);
+                bar.set_position(done as u64);
+            },
+            cancel,
+        )
     };
     let result = match &checkpointer {
         Some(checkpointer) => checkpointer.run(render),
@@ -530,8 +534,7 @@ fn render_scene_to(args: &RenderArgs, mut desc: SceneDesc, output: &Path, cancel
     }
     let (image, stats) = result.map_err(|RenderError::Cancelled| Failure::Cancelled)?;
     let traced = start.elapsed().as_secs_f64();
-    // On the render's pool: encoding runs on the threads asked for.
-    pool.install(|| write_outputs(args, (output, format, transfer), &image, &stats))?;
+    write_outputs(args, (output, format, transfer), &image, &stats)?;
     let seconds = start.elapsed().as_secs_f64();
     if let Some(checkpointer) = &checkpointer {
         checkpointer.remove();
@@ -546,7 +549,7 @@ fn render_scene_to(args: &RenderArgs, mut desc: SceneDesc, output: &Path, cancel
              {:.2} Mrays/s{}",
             output.display(),
             mean_spp,
-            pool.current_num_threads(),
+            rayon::current_num_threads(),
             stats.rays,
             stats.rays as f64 / traced / 1e6,
             peak_memory().map(|m| format!(", peak memory {m}")).unwrap_or_default(),

@@ -13,7 +13,8 @@ use glint_scene::part_file::{PartMeta, read_part, write_part};
 
 use crate::{DeviceArg, Failure, MergeArgs, RenderArgs, output_format, progress_bar, report_non_finite};
 
-/// Renders part `index` of `count` of `scene` into the .exr file `args.output` names.
+/// Renders part `index` of `count` of `scene` into the .exr file `args.output` names, on
+/// the current rayon pool.
 pub(crate) fn run_part(
     args: &RenderArgs,
     (index, count): (u32, u32),
@@ -24,14 +25,13 @@ pub(crate) fn run_part(
 ) -> Result<(), Failure> {
     refuse_with_part(args, format)?;
     let part = Part::new(index, count, scene)?;
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(args.threads).build()?;
     let bar = progress_bar(args.quiet);
     let start = Instant::now();
     let progress = |done: usize, total: usize| {
         bar.set_length(total as u64);
         bar.set_position(done as u64);
     };
-    let film = pool.install(|| render_part(scene, part, &progress, cancel));
+    let film = render_part(scene, part, &progress, cancel);
     bar.finish_and_clear();
     let film = film.map_err(|RenderError::Cancelled| Failure::Cancelled)?;
     let fingerprint = glint_cli::checkpoint::fingerprint(scene, desc);
