@@ -534,14 +534,13 @@ fn path_camera_ray(
     (px, py): (u32, u32),
     index: u32,
 ) -> (PathSampler, (f32, f32), Ray) {
-    let s = &scene.settings;
     let mut sampler = stream.sample(index);
     let offset = sampler.next_2d();
     // The lens and the shutter take dimensions only where they matter (the same for
     // every sample of a scene, so each later decision keeps a fixed dimension).
     let lens = if scene.camera.aperture_radius > 0.0 { sampler.next_2d() } else { Vec2::splat(0.5) };
     let (fx, fy) = (px as f32 + offset.x, py as f32 + offset.y);
-    let mut ray = scene.camera.ray(2.0 * fx / s.width as f32 - 1.0, 1.0 - 2.0 * fy / s.height as f32, lens);
+    let mut ray = film_ray(scene, fx, fy, lens);
     if !scene.motions.is_empty() {
         ray.time = sampler.next_1d();
     }
@@ -620,16 +619,20 @@ fn trace_film_point(scene: &RenderScene, fx: f32, fy: f32, lens: Vec2, ctx: &mut
 /// point `lens`, at a moment of the shutter interval drawn from `ctx` where anything
 /// moves.
 fn camera_ray(scene: &RenderScene, fx: f32, fy: f32, lens: Vec2, ctx: &mut TraceContext) -> Ray {
-    let s = &scene.settings;
-    // Screen space to the film plane: x, y in [−1, 1], +y up.
-    let x = 2.0 * fx / s.width as f32 - 1.0;
-    let y = 1.0 - 2.0 * fy / s.height as f32;
-    let mut ray = scene.camera.ray(x, y, lens);
+    let mut ray = film_ray(scene, fx, fy, lens);
     if !scene.motions.is_empty() {
         // A moment in the shutter interval, for motion blur.
         ray.time = ctx.rng.next_f32();
     }
     ray
+}
+
+/// The camera's ray through film position (`fx`, `fy`) in pixels (y down) and lens
+/// point `lens`, at shutter open.
+fn film_ray(scene: &RenderScene, fx: f32, fy: f32, lens: Vec2) -> Ray {
+    let s = &scene.settings;
+    // Screen space to the film plane: x, y in [−1, 1], +y up.
+    scene.camera.ray(2.0 * fx / s.width as f32 - 1.0, 1.0 - 2.0 * fy / s.height as f32, lens)
 }
 
 /// A non-finite value (a NaN from a degenerate configuration) becomes black in a preview,

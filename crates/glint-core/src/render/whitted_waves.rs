@@ -17,9 +17,9 @@
 //! is drawn from the sample's stream in the order the waves reach its hits, so with
 //! area lights the soft shadows' noise differs, not their mean.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
-use super::{TileFilm, Traced, camera_sample, whitted_aov};
+use super::{TileFilm, Traced, camera_sample, film_ray, whitted_aov};
 use crate::film::Aov;
 use crate::integrator::observe::NoObserver;
 use crate::integrator::whitted::{Facing, ShadowRays, for_each_secondary, shade_vertex};
@@ -113,20 +113,15 @@ struct Objects<'a> {
 /// can meet ([`FewObjects::seen_from`]), for a pinhole camera; `None` for a lens,
 /// whose rays start anywhere on it.
 fn seen_by_camera(scene: &RenderScene, few: &FewObjects, (x0, y0, x1, y1): (u32, u32, u32, u32)) -> Option<FewObjects> {
-    let camera = &scene.camera;
-    if camera.aperture_radius > 0.0 {
+    if scene.camera.aperture_radius > 0.0 {
         return None;
     }
-    let (width, height) = (scene.settings.width as f32, scene.settings.height as f32);
-    // A pixel wider on every side than the samples reach, as `camera_ray` maps them.
+    // A pixel wider on every side than the samples reach.
     let (left, right) = (x0 as f32 - 1.0, x1 as f32 + 1.0);
     let (top, bottom) = (y0 as f32 - 1.0, y1 as f32 + 1.0);
-    let direction = |fx: f32, fy: f32| {
-        let film = Vec3::new(2.0 * fx / width - 1.0, 1.0 - 2.0 * fy / height, -1.0);
-        camera.world_from_canonical.transform_point3(film) - camera.eye
-    };
+    let direction = |fx: f32, fy: f32| film_ray(scene, fx, fy, Vec2::ZERO).dir;
     let corners = [direction(left, top), direction(right, top), direction(right, bottom), direction(left, bottom)];
-    Some(few.seen_from(camera.eye, corners))
+    Some(few.seen_from(scene.camera.eye, corners))
 }
 
 /// Traces the samples `(px, py, index)` that `requests` names, at the positions
