@@ -1,6 +1,7 @@
 //! Geometry primitives shared by every part of the renderer: a thin layer over glam.
 
 mod aabb;
+mod finite;
 mod offset;
 pub mod polynomial;
 mod ray;
@@ -10,6 +11,7 @@ mod unit;
 pub mod wide;
 
 pub use aabb::{Aabb, ROBUST_FAR};
+pub use finite::all_finite;
 pub use offset::{offset_ray_origin, offset_ray_origins};
 pub use ray::Ray;
 pub use transform::Transform;

@@ -24,7 +24,7 @@ use crate::film::Aov;
 use crate::integrator::observe::NoObserver;
 use crate::integrator::whitted::{Facing, ShadowRays, for_each_secondary, shade_vertex};
 use crate::integrator::{Counters, SurfaceId, TraceContext};
-use crate::math::Ray;
+use crate::math::{Ray, all_finite};
 use crate::sampling::PixelSampler;
 use crate::scene::{FewObjects, NO_OBJECT, RayWave, RenderScene, WAVE, WaveHits};
 
@@ -225,7 +225,7 @@ fn trace_batch(
             let seen = (&pending.ray, hit, &facing);
             let local = shade_vertex(scene, seen, &mut sample.ctx, &mut deferred, &mut NoObserver);
             let local = pending.weight * local;
-            if !local.is_finite() {
+            if !all_finite(local) {
                 sample.ctx.counters.blame(hit);
             }
             sample.traced.value += local;
@@ -259,7 +259,7 @@ fn resolve_shadows(scene: &RenderScene, few: &FewObjects, samples: &mut [Sample]
         }
         let sample = &mut samples[shadow.sample as usize];
         let light = filter * shadow.light;
-        if !light.is_finite() {
+        if !all_finite(light) {
             sample.ctx.counters.blame_surface(shadow.surface);
         }
         sample.traced.value += light;
