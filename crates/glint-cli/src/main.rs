@@ -14,7 +14,7 @@ use glint_cli::checkpoint::{Checkpointer, DEFAULT_INTERVAL_SECONDS};
 use glint_core::desc::{AdaptiveDesc, FilterKind, SamplePattern, SamplerKind, SceneDesc};
 use glint_core::film::Image;
 use glint_core::film::Transfer;
-use glint_core::render::{NonFiniteSamples, RenderError, RenderStats, TileStore, render_progressive};
+use glint_core::render::{NonFiniteSamples, RenderError, RenderStats, render_progressive};
 use glint_core::scene::compile;
 use glint_scene::image_out::{OutputFormat, write_exr_layers, write_image};
 use glint_scene::input::InputLimits;
@@ -508,8 +508,7 @@ fn render_scene_to(args: &RenderArgs, mut desc: SceneDesc, output: &Path, cancel
         }
     };
     let first_block = if args.progressive { 16 } else { 1 };
-    let fresh_store = TileStore::default();
-    let store = checkpointer.as_ref().map_or(&fresh_store, Checkpointer::store);
+    let store = checkpointer.as_ref().map(Checkpointer::store);
     let mut render = || {
         render_progressive(
             &scene,

@@ -6,7 +6,7 @@ use std::sync::atomic::AtomicBool;
 use glam::{Vec2, Vec3};
 use glint_core::desc::*;
 use glint_core::film::Image;
-use glint_core::render::render;
+use glint_core::render::{TileStore, render, render_resumable};
 use glint_core::scene::compile;
 
 fn render_desc(desc: &SceneDesc) -> Image {
@@ -464,6 +464,35 @@ fn image_is_bit_identical_for_any_thread_count() {
     assert_eq!(stats_one, stats_three);
     // And it is not a blank image.
     assert!(one.pixels.iter().any(|p| p.x > 0.2) && one.pixels.iter().all(|p| p.is_finite()));
+}
+
+/// `render` merges tiles band by band as they finish and drops them; a store's render
+/// merges them all at the end. The two give the same bits, with a narrow filter and the
+/// widest allowed (its halo half a tile), AOVs, adaptive sampling and partial tiles at
+/// the edges, on three threads.
+#[test]
+fn merging_as_tiles_finish_gives_the_merge_at_the_end() {
+    for (radius, adaptive) in
+        [(1.5, None), (8.0, Some(AdaptiveDesc { min_samples: 2, max_samples: 8, threshold: 0.05 }))]
+    {
+        let mut desc = busy_scene();
+        desc.settings.width = 75;
+        desc.settings.height = 83;
+        desc.settings.filter = FilterDesc { kind: FilterKind::Gaussian, radius };
+        desc.settings.adaptive = adaptive;
+        let mut scene = compile(&desc).unwrap();
+        scene.settings.aovs = true;
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(3).build().unwrap();
+        let (streamed, streamed_stats) = pool.install(|| render(&scene, &|_, _| {}, &AtomicBool::new(false)).unwrap());
+        let store = TileStore::default();
+        let (kept, kept_stats) =
+            pool.install(|| render_resumable(&scene, &store, &|_, _| {}, &AtomicBool::new(false)).unwrap());
+        let bits = |image: &Image| image.pixels.iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<_>>();
+        assert_eq!(bits(&streamed), bits(&kept), "filter radius {radius}");
+        assert_eq!(streamed_stats, kept_stats, "filter radius {radius}");
+        assert!(streamed_stats.aovs.is_some());
+        assert_eq!(store.len(), 5 * 6, "the store keeps every tile");
+    }
 }
 
 #[test]

@@ -9,6 +9,7 @@ mod checkpoint;
 pub mod inspect;
 mod non_finite;
 mod parts;
+mod streaming;
 mod waves;
 mod whitted_waves;
 
@@ -55,12 +56,34 @@ pub enum RenderError {
 
 /// Renders on the current rayon pool. `progress(done, total)` is called after each
 /// tile (from worker threads); setting `cancel` stops the render between tiles.
+///
+/// Tiles are merged into the image band by band as they finish and then dropped, so
+/// the render holds the image and a few rows of tiles, not every tile's film.
 pub fn render(
     scene: &RenderScene,
     progress: &(dyn Fn(usize, usize) + Sync),
     cancel: &AtomicBool,
 ) -> Result<(Image, RenderStats), RenderError> {
-    render_resumable(scene, &TileStore::default(), progress, cancel)
+    let (width, height) = (scene.settings.width, scene.settings.height);
+    let mut image = Image::new(width, height);
+    let mut counts = vec![0; (width * height) as usize];
+    let merge = streaming::StreamingMerge::new(scene, &mut image.pixels, &mut counts);
+    let total = tile_count(scene) as usize;
+    let done = AtomicUsize::new(0);
+    (0..tile_count(scene)).into_par_iter().for_each(|index| {
+        if cancel.load(Ordering::Relaxed) {
+            return;
+        }
+        merge.add(index, render_tile(scene, index));
+        progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
+    });
+    if cancel.load(Ordering::Relaxed) {
+        return Err(RenderError::Cancelled);
+    }
+    let merged = merge.finish();
+    let stats =
+        RenderStats { rays: merged.rays, samples_per_pixel: counts, aovs: merged.aovs, non_finite: merged.non_finite };
+    Ok((image, stats))
 }
 
 /// [`render`] that keeps each finished tile in `store` and traces only the tiles it
@@ -127,21 +150,36 @@ fn merge_tiles<'a>(scene: &RenderScene, tiles: impl Iterator<Item = &'a Finished
             || FilmTile::new(0, 0, 0, 0),
             |film, (band, (pixels, counts))| {
                 let y0 = (band * band_rows) as u32;
-                let rows = (pixels.len() / width as usize) as u32;
-                film.reset((0, y0, width, rows), scene.settings.aovs);
-                let overlaps = |t: &&&FinishedTile| t.film.y0 < y0 + rows && t.film.y0 + t.film.height > y0;
-                for tile in tiles.iter().filter(overlaps) {
-                    film.merge(&tile.film);
-                    copy_sample_counts(tile, (y0, y0 + rows), width, counts);
-                }
-                film.resolve_into(pixels);
-                film.resolve_aovs()
+                merge_band(scene, film, y0, tiles.iter().copied(), pixels, counts)
             },
         )
         .collect();
     stats.aovs = AovImages::stacked(band_aovs);
     stats.samples_per_pixel = counts;
     (image, stats)
+}
+
+/// Merges into `pixels` and `counts`, the rows from `y0` of the image's pixels and
+/// samples per pixel, the tiles of `tiles` (in tile order) whose films reach them, on
+/// `film` (reset here, so a worker can reuse one); returns the band's AOVs.
+fn merge_band<'a>(
+    scene: &RenderScene,
+    film: &mut FilmTile,
+    y0: u32,
+    tiles: impl Iterator<Item = &'a FinishedTile>,
+    pixels: &mut [Vec3],
+    counts: &mut [u32],
+) -> Option<AovImages> {
+    let width = scene.settings.width;
+    let rows = (pixels.len() / width as usize) as u32;
+    film.reset((0, y0, width, rows), scene.settings.aovs);
+    let overlaps = |t: &&FinishedTile| t.film.y0 < y0 + rows && t.film.y0 + t.film.height > y0;
+    for tile in tiles.filter(overlaps) {
+        film.merge(&tile.film);
+        copy_sample_counts(tile, (y0, y0 + rows), width, counts);
+    }
+    film.resolve_into(pixels);
+    film.resolve_aovs()
 }
 
 /// The sample counts of `tile`'s rows within `rows` into `counts`, the counts of those
@@ -709,12 +747,13 @@ pub fn render_preview(scene: &RenderScene, block: u32) -> Image {
     image
 }
 
-/// Subsampled previews at halving block sizes, then the full render
-/// ([`render_resumable`] into `store`); `on_pass` sees each image as it is ready (a
-/// viewer shows it, the CLI rewrites the output file).
+/// Subsampled previews at halving block sizes, then the full render: [`render_resumable`]
+/// into `store` when there is one (to checkpoint or resume), [`render`] when not.
+/// `on_pass` sees each image as it is ready (a viewer shows it, the CLI rewrites the
+/// output file).
 pub fn render_progressive(
     scene: &RenderScene,
-    store: &TileStore,
+    store: Option<&TileStore>,
     first_block: u32,
     on_pass: &mut dyn FnMut(&Image, u32),
     progress: &(dyn Fn(usize, usize) + Sync),
@@ -728,7 +767,10 @@ pub fn render_progressive(
         on_pass(&render_preview(scene, block), block);
         block /= 2;
     }
-    let result = render_resumable(scene, store, progress, cancel)?;
+    let result = match store {
+        Some(store) => render_resumable(scene, store, progress, cancel)?,
+        None => render(scene, progress, cancel)?,
+    };
     on_pass(&result.0, 1);
     Ok(result)
 }
