@@ -13,7 +13,7 @@ use glam::Vec2;
 use super::TraceContext;
 use super::observe::{NoObserver, Observer, RayKind};
 use crate::material::{Material, NO_TEXTURE};
-use crate::math::{Ray, offset_ray_origin};
+use crate::math::{Ray, all_finite, offset_ray_origin};
 use crate::scene::{Hit, RenderScene};
 
 /// Radiance arriving along `ray`. `weight` is the product of the `k·O` factors that
@@ -228,7 +228,7 @@ impl ShadowRays for TracedNow {
 /// deepest first, so the first surface noted is where the fault arose.
 #[inline]
 fn blamed_if_non_finite(color: Vec3, hit: &Hit, ctx: &mut TraceContext) -> Vec3 {
-    if !color.is_finite() {
+    if !all_finite(color) {
         ctx.counters.blame(hit);
     }
     color

@@ -27,6 +27,9 @@ pub(super) struct StreamingMerge<'a> {
     bands_of_row: Vec<Range<u32>>,
     state: Mutex<State>,
     bands: Vec<Mutex<Band<'a>>>,
+    /// Band films to merge on, kept between merges: a fresh one each time was fresh
+    /// memory each time.
+    films: Mutex<Vec<FilmTile>>,
 }
 
 /// What the workers share: the finished tiles not yet dropped and the tallies.
@@ -87,7 +90,8 @@ impl<'a> StreamingMerge<'a> {
             rays: 0,
             non_finite: Vec::new(),
         };
-        StreamingMerge { scene, tiles_x, rows_of_band, bands_of_row, state: Mutex::new(state), bands }
+        let films = Mutex::new(Vec::new());
+        StreamingMerge { scene, tiles_x, rows_of_band, bands_of_row, state: Mutex::new(state), bands, films }
     }
 
     /// Takes tile `index`, then merges the bands it completes and drops the tiles no
@@ -152,9 +156,11 @@ impl<'a> StreamingMerge<'a> {
     fn merge(&self, band: u32, tiles: &[Arc<FinishedTile>]) {
         let mut band_out = self.bands[band as usize].lock().unwrap_or_else(|poisoned| poisoned.into_inner());
         let Band { pixels, counts, aovs } = &mut *band_out;
-        let mut film = FilmTile::new(0, 0, 0, 0);
+        let spare = self.films.lock().unwrap_or_else(|poisoned| poisoned.into_inner()).pop();
+        let mut film = spare.unwrap_or_else(|| FilmTile::new(0, 0, 0, 0));
         let y0 = band * TILE_SIZE;
         *aovs = merge_band(self.scene, &mut film, y0, tiles.iter().map(|t| &**t), pixels, counts);
+        self.films.lock().unwrap_or_else(|poisoned| poisoned.into_inner()).push(film);
     }
 
     fn lock(&self) -> MutexGuard<'_, State> {
