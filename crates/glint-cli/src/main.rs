@@ -404,10 +404,10 @@ enum FormatArg {
     Ppm,
 }
 
-/// mimalloc rather than glibc's malloc. A render keeps every finished tile's film until
-/// the ordered merge; glibc grew its arenas for them a page at a time (`brk`, `mprotect`
-/// and a fault per page: a tenth of a small render's CPU went to the kernel), where
-/// mimalloc takes its memory in large, huge-page-backed spans.
+/// mimalloc rather than glibc's malloc. glibc grew its arenas for the tiles' films a page
+/// at a time (`brk`, `mprotect` and a fault per page: a tenth of a small render's CPU
+/// went to the kernel), where mimalloc takes its memory in large spans advised onto huge
+/// pages and reuses what is freed (docs/performance.md, 7 December, evening).
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 

@@ -115,7 +115,7 @@ impl<'a> StreamingMerge<'a> {
         }
     }
 
-    /// Tile rows whose tiles some worker holds now: what the merge keeps in memory.
+    /// Tile rows the merge holds tiles of now: what it keeps in memory.
     #[cfg(test)]
     fn rows_held(&self) -> usize {
         let state = self.lock();
@@ -153,6 +153,7 @@ impl<'a> StreamingMerge<'a> {
         }
     }
 
+    /// Merges band `band` from `tiles`, its tiles in tile order, on a spare film.
     fn merge(&self, band: u32, tiles: &[Arc<FinishedTile>]) {
         let mut band_out = self.bands[band as usize].lock().unwrap_or_else(|poisoned| poisoned.into_inner());
         let Band { pixels, counts, aovs } = &mut *band_out;
@@ -177,7 +178,9 @@ impl<'a> StreamingMerge<'a> {
         for (_, tally) in &tallies {
             non_finite.merge(tally);
         }
-        let band_aovs = self.bands.into_iter().map(|band| band.into_inner().map_or(None, |band| band.aovs)).collect();
+        let band_aovs =
+            self.bands.into_iter().map(|band| band.into_inner().unwrap_or_else(|poisoned| poisoned.into_inner()).aovs);
+        let band_aovs = band_aovs.collect();
         Merged { rays: state.rays, non_finite, aovs: AovImages::stacked(band_aovs) }
     }
 }
