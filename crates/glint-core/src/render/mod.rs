@@ -68,15 +68,8 @@ pub fn render(
     let mut image = Image::new(width, height);
     let mut counts = vec![0; (width * height) as usize];
     let merge = streaming::StreamingMerge::new(scene, &mut image.pixels, &mut counts);
-    let total = tile_count(scene) as usize;
-    let done = AtomicUsize::new(0);
-    (0..tile_count(scene)).into_par_iter().for_each(|index| {
-        if cancel.load(Ordering::Relaxed) {
-            return;
-        }
-        merge.add(index, render_tile(scene, index));
-        progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
-    });
+    let all: Vec<u32> = (0..tile_count(scene)).collect();
+    trace_tiles(scene, &all, |_| false, |index, tile| merge.add(index, tile), progress, cancel);
     if cancel.load(Ordering::Relaxed) {
         return Err(RenderError::Cancelled);
     }
@@ -110,18 +103,33 @@ fn render_tiles(
     progress: &(dyn Fn(usize, usize) + Sync),
     cancel: &AtomicBool,
 ) -> Result<(), RenderError> {
-    let done = AtomicUsize::new(tiles.iter().filter(|&&t| store.contains(t)).count());
-    tiles.par_iter().for_each(|&index| {
-        if cancel.load(Ordering::Relaxed) || store.contains(index) {
-            return;
-        }
-        store.insert(index, render_tile(scene, index));
-        progress(done.fetch_add(1, Ordering::Relaxed) + 1, tiles.len());
-    });
+    trace_tiles(scene, tiles, |index| store.contains(index), |index, tile| store.insert(index, tile), progress, cancel);
     if cancel.load(Ordering::Relaxed) || tiles.iter().any(|&t| !store.contains(t)) {
         return Err(RenderError::Cancelled);
     }
     Ok(())
+}
+
+/// Traces the tiles of `tiles` that `done` does not already hold and hands each to
+/// `finish` as it completes, on the current rayon pool, until `cancel` is set; the one
+/// tile loop behind both the streaming and the resumable render. `progress(done,
+/// total)` counts the tiles of `tiles`, those held beforehand included.
+fn trace_tiles(
+    scene: &RenderScene,
+    tiles: &[u32],
+    done: impl Fn(u32) -> bool + Sync,
+    finish: impl Fn(u32, FinishedTile) + Sync,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    cancel: &AtomicBool,
+) {
+    let finished = AtomicUsize::new(tiles.iter().filter(|&&t| done(t)).count());
+    tiles.par_iter().for_each(|&index| {
+        if cancel.load(Ordering::Relaxed) || done(index) {
+            return;
+        }
+        finish(index, render_tile(scene, index));
+        progress(finished.fetch_add(1, Ordering::Relaxed) + 1, tiles.len());
+    });
 }
 
 /// The image and its statistics from every tile's share, merged in tile order. Bands
