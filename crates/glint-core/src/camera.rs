@@ -52,14 +52,22 @@ impl Camera {
     }
 
     /// The primary ray through film point `(x, y)` in [−1, 1]² (+y up), unit direction;
-    /// `lens` in [0, 1)² picks the point on the lens (ignored by a pinhole).
-    #[inline]
+    /// `lens` in [0, 1)² picks the point on the lens (ignored by a pinhole). The
+    /// pinhole's ray is always inlined (into the AVX2 tiles, with the camera samples'
+    /// loop); a lens's is a call.
+    #[inline(always)]
     pub fn ray(&self, x: f32, y: f32, lens: Vec2) -> Ray {
         let film_point = self.world_from_canonical.transform_point3(Vec3::new(x, y, -1.0));
         let pinhole = Ray::new(self.eye, (film_point - self.eye).normalize());
         if self.aperture_radius <= 0.0 {
             return pinhole;
         }
+        self.through_lens(&pinhole, lens)
+    }
+
+    /// The ray from lens point `lens` to where `pinhole` meets the plane of focus.
+    #[inline(never)]
+    fn through_lens(&self, pinhole: &Ray, lens: Vec2) -> Ray {
         // The pinhole ray meets the plane of focus at distance f along the look axis.
         let focus = pinhole.at(self.focal_distance / pinhole.dir.dot(self.forward));
         let on_lens = self.aperture_radius * concentric_disk(lens);

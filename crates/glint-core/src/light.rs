@@ -164,7 +164,8 @@ impl Light {
         }
         let offset = self.position - p;
         let distance = offset.length();
-        let to_light = offset / distance;
+        // One division, not three: each waits a dozen cycles, and a hit meets every light.
+        let to_light = offset * distance.recip();
         let f_att = self.f_att(distance);
         let cone = if self.kind == LightKind::Spot { self.spot_falloff(-to_light) } else { 1.0 };
         Incidence { to_light, distance, radiance: f_att * cone * self.color }

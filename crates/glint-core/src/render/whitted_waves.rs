@@ -164,8 +164,11 @@ fn trace_requests(
         start = end;
         // The camera samples first, all of them: their rays are read long after they
         // were written (read at once, they stalled on the stores that returned them).
+        // A loop, not `Vec::extend`, whose own function is built without AVX2.
         cameras.clear();
-        cameras.extend(batch.iter().map(|&(px, py, index)| camera_sample(scene, sampler, px, py, index)));
+        for &(px, py, index) in batch {
+            cameras.push(camera_sample(scene, sampler, px, py, index));
+        }
         samples.clear();
         samples.extend(cameras.iter().map(|camera| {
             let traced = Traced { fx: camera.fx, fy: camera.fy, value: Vec3::ZERO, aov: Aov::default(), culprit: None };
