@@ -202,6 +202,20 @@ pub trait ShadowRays {
 
     /// Keeps `light`, what the shadow ray last put aside adds times its filter.
     fn defer(&mut self, ray: &Ray, t_max: f32, light: Vec3);
+
+    /// The scene's light `light_index` as seen from `p` ([`Light::sample`]), which a
+    /// caller may have worked out beforehand.
+    #[inline(always)]
+    fn incidence(
+        &mut self,
+        _light_index: usize,
+        light: &crate::light::Light,
+        p: Vec3,
+        index: u32,
+        jitter: Vec2,
+    ) -> crate::light::Incidence {
+        light.sample(p, index, jitter)
+    }
 }
 
 /// Shadow rays traced as they come, one by one.
@@ -272,7 +286,7 @@ fn direct_lighting(
                 ctx.rng.skip(2);
                 Vec2::ZERO
             };
-            let incidence = light.sample(hit.point, index, jitter);
+            let incidence = shadows.incidence(light_index, light, hit.point, index, jitter);
             let n_dot_l = n.dot(incidence.to_light);
             if n_dot_l <= 0.0 || incidence.radiance == Vec3::ZERO {
                 continue;

@@ -7,6 +7,7 @@
 
 mod checkpoint;
 pub mod inspect;
+mod lane_incidence;
 mod non_finite;
 mod parts;
 mod streaming;

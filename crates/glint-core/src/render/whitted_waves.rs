@@ -7,7 +7,8 @@
 //! its sample, in any order. The tile's rays wait on a stack, camera rays first; each
 //! step traces eight of them side by side, shades each hit (ambient and lights), and
 //! pushes the reflected and transmitted rays it spawns. Shadow rays wait apart with the
-//! light they would add and are traced eight at a time too; an unblocked one adds its
+//! light they would add and are traced eight at a time too (the point lights' directions
+//! for a wave's hits are worked out side by side first, [`LaneIncidence`]); an unblocked one adds its
 //! light, one stopped by an opaque object nothing, and one that meets transparent
 //! objects goes on past them, in waves too, filtered by each as
 //! [`RenderScene::transmittance`] filters a single ray.
@@ -19,6 +20,7 @@
 
 use glam::{Vec2, Vec3};
 
+use super::lane_incidence::LaneIncidence;
 use super::{TileFilm, Traced, camera_sample, film_ray, whitted_aov};
 use crate::film::Aov;
 use crate::integrator::observe::NoObserver;
@@ -64,12 +66,27 @@ struct Deferred<'a> {
     sample: u32,
     weight: Vec3,
     surface: SurfaceId,
+    /// The wave's point lights as its hits see them, and this hit's lane.
+    lit: &'a LaneIncidence,
+    lane: usize,
 }
 
 impl ShadowRays for Deferred<'_> {
     #[inline(always)]
     fn filter(&mut self, _: &RenderScene, _: &Ray, _: f32) -> Option<Vec3> {
         None
+    }
+
+    #[inline(always)]
+    fn incidence(
+        &mut self,
+        light_index: usize,
+        light: &crate::light::Light,
+        p: Vec3,
+        index: u32,
+        jitter: Vec2,
+    ) -> crate::light::Incidence {
+        self.lit.get(light_index, light, self.lane).unwrap_or_else(|| light.sample(p, index, jitter))
     }
 
     #[inline(always)]
@@ -209,6 +226,7 @@ fn trace_batch(
         let camera_rays_only = wave.iter().all(|pending| pending.depth == 0);
         let few = if camera_rays_only { objects.seen_by_camera } else { objects.all };
         let hits = few.trace(&lanes);
+        let lit = LaneIncidence::of(scene, &lanes, &hits);
         for (lane, pending) in wave.iter().enumerate() {
             let sample = &mut samples[pending.sample as usize];
             sample.ctx.counters.rays += 1;
@@ -223,7 +241,8 @@ fn trace_batch(
                 continue;
             };
             let surface = SurfaceId::of(hit);
-            let mut deferred = Deferred { queue: shadows, sample: pending.sample, weight: pending.weight, surface };
+            let mut deferred =
+                Deferred { queue: shadows, sample: pending.sample, weight: pending.weight, surface, lit: &lit, lane };
             let facing = Facing::of(&pending.ray, hit);
             let seen = (&pending.ray, hit, &facing);
             let local = shade_vertex(scene, seen, &mut sample.ctx, &mut deferred, &mut NoObserver);
