@@ -240,6 +240,14 @@ struct Traced {
     culprit: Option<SurfaceId>,
 }
 
+impl Traced {
+    /// A sample at film position (`fx`, `fy`) that has gathered nothing yet.
+    #[inline(always)]
+    fn at(fx: f32, fy: f32) -> Traced {
+        Traced { fx, fy, value: Vec3::ZERO, aov: Aov::default(), culprit: None }
+    }
+}
+
 /// A tile's film, as its samples are splatted: non-finite ones are counted instead.
 struct TileFilm<'a> {
     scene: &'a RenderScene,
@@ -620,11 +628,7 @@ struct CameraSample {
 fn camera_sample(scene: &RenderScene, sampler: &PixelSampler, px: u32, py: u32, index: u32) -> CameraSample {
     let offset = sampler.offset(px, py, index);
     let (fx, fy) = (px as f32 + offset.x, py as f32 + offset.y);
-    let mut ctx = TraceContext {
-        counters: Counters::default(),
-        rng: Rng::keyed([px, py, index, scene.settings.seed]),
-        footprint_scale: scene.settings.sample_footprint(index),
-    };
+    let mut ctx = sample_context(scene, px, py, index);
     let lens = if scene.camera.aperture_radius > 0.0 {
         Vec2::new(ctx.rng.next_f32(), ctx.rng.next_f32())
     } else {
@@ -633,6 +637,18 @@ fn camera_sample(scene: &RenderScene, sampler: &PixelSampler, px: u32, py: u32, 
     };
     let ray = camera_ray(scene, fx, fy, lens, &mut ctx);
     CameraSample { fx, fy, ray, ctx }
+}
+
+/// The context of sample `index` of pixel (`px`, `py`), its random stream keyed to the
+/// sample (so a sample's numbers do not depend on which thread or tile traces it) and
+/// not yet drawn from.
+#[inline(always)]
+fn sample_context(scene: &RenderScene, px: u32, py: u32, index: u32) -> TraceContext {
+    TraceContext {
+        counters: Counters::default(),
+        rng: Rng::keyed([px, py, index, scene.settings.seed]),
+        footprint_scale: scene.settings.sample_footprint(index),
+    }
 }
 
 /// Traces sample `index` of pixel (`px`, `py`): returns its film position (pixels) and

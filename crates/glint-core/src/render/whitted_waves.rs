@@ -21,8 +21,7 @@
 use glam::{Vec2, Vec3};
 
 use super::lane_incidence::LaneIncidence;
-use super::{TileFilm, Traced, camera_sample, film_ray, whitted_aov};
-use crate::film::Aov;
+use super::{TileFilm, Traced, camera_sample, film_ray, sample_context, whitted_aov};
 use crate::integrator::observe::NoObserver;
 use crate::integrator::whitted::{Facing, ShadowRays, for_each_secondary, shade_vertex};
 use crate::integrator::{Counters, SurfaceId, TraceContext};
@@ -167,8 +166,9 @@ fn trace_requests(
     counters: &mut Counters,
     mut done: impl FnMut((u32, u32, u32), &Traced),
 ) {
-    let (mut cameras, mut samples) = (Vec::with_capacity(BATCH_SAMPLES), Vec::with_capacity(BATCH_SAMPLES));
+    let (mut camera_rays, mut samples) = (Vec::with_capacity(BATCH_SAMPLES), Vec::with_capacity(BATCH_SAMPLES));
     let (mut rays, mut shadows) = (Vec::new(), Vec::new());
+    let pinhole = scene.camera.aperture_radius <= 0.0 && scene.motions.is_empty();
     let mut start = 0;
     while start < requests.len() {
         // Up to the batch size, then on to the end of the pixel.
@@ -181,25 +181,59 @@ fn trace_requests(
         start = end;
         // The camera samples first, all of them: their rays are read long after they
         // were written (read at once, they stalled on the stores that returned them).
-        // A loop, not `Vec::extend`, whose own function is built without AVX2.
-        cameras.clear();
-        for &(px, py, index) in batch {
-            cameras.push(camera_sample(scene, sampler, px, py, index));
-        }
+        // Loops, not `Vec::extend`, whose own function is built without AVX2.
         samples.clear();
-        samples.extend(cameras.iter().map(|camera| {
-            let traced = Traced { fx: camera.fx, fy: camera.fy, value: Vec3::ZERO, aov: Aov::default(), culprit: None };
-            Sample { traced, ctx: camera.ctx.clone() }
-        }));
+        camera_rays.clear();
+        if pinhole {
+            for wave in batch.chunks(WAVE) {
+                push_pinhole_samples(scene, sampler, wave, &mut samples, &mut camera_rays);
+            }
+        } else {
+            for &(px, py, index) in batch {
+                let camera = camera_sample(scene, sampler, px, py, index);
+                samples.push(Sample { traced: Traced::at(camera.fx, camera.fy), ctx: camera.ctx });
+                camera_rays.push(camera.ray);
+            }
+        }
         // Pushed in reverse and popped from the end: the batch's first rays go first.
-        let camera_rays = cameras.iter().enumerate().rev();
-        rays.extend(camera_rays.map(|(k, c)| Pending { sample: k as u32, ray: c.ray, weight: Vec3::ONE, depth: 0 }));
+        let pending = camera_rays.iter().enumerate().rev();
+        rays.extend(pending.map(|(k, &ray)| Pending { sample: k as u32, ray, weight: Vec3::ONE, depth: 0 }));
         trace_batch(scene, objects, &mut samples, &mut rays, &mut shadows);
         for (&request, sample) in batch.iter().zip(&mut samples) {
             counters.rays += sample.ctx.counters.rays;
             sample.traced.culprit = sample.ctx.counters.non_finite_at;
             done(request, &sample.traced);
         }
+    }
+}
+
+/// Pushes the samples `requests` (up to a wave of them) of a pinhole camera, which no
+/// motion blur draws a moment for, and their camera rays: the film positions and the
+/// rays' directions worked out side by side, bit for bit those [`camera_sample`] gives.
+#[inline(always)]
+fn push_pinhole_samples(
+    scene: &RenderScene,
+    sampler: &PixelSampler,
+    requests: &[(u32, u32, u32)],
+    samples: &mut Vec<Sample>,
+    camera_rays: &mut Vec<Ray>,
+) {
+    let (mut fx, mut fy) = ([0.0; WAVE], [0.0; WAVE]);
+    for (k, &(px, py, index)) in requests.iter().enumerate() {
+        let offset = sampler.offset(px, py, index);
+        (fx[k], fy[k]) = (px as f32 + offset.x, py as f32 + offset.y);
+    }
+    // Screen space to the film plane as `film_ray` maps it: x, y in [−1, 1], +y up.
+    let (width, height) = (scene.settings.width as f32, scene.settings.height as f32);
+    let x: [f32; WAVE] = std::array::from_fn(|k| 2.0 * fx[k] / width - 1.0);
+    let y: [f32; WAVE] = std::array::from_fn(|k| 1.0 - 2.0 * fy[k] / height);
+    let dir = scene.camera.pinhole_directions(&x, &y);
+    for (k, &(px, py, index)) in requests.iter().enumerate() {
+        let mut ctx = sample_context(scene, px, py, index);
+        // The lens point a pinhole does not draw.
+        ctx.rng.skip(2);
+        samples.push(Sample { traced: Traced::at(fx[k], fy[k]), ctx });
+        camera_rays.push(Ray::new(scene.camera.eye, Vec3::new(dir[0][k], dir[1][k], dir[2][k])));
     }
 }
 
