@@ -698,6 +698,20 @@ impl RenderScene {
     /// once. Inlined where the caller knows the instance is analytic.
     #[inline(always)]
     pub(crate) fn hit_on_analytic(&self, ray: &Ray, local: &Ray, index: u32, hit: crate::shape::ShapeHit) -> Hit {
+        self.hit_on_analytic_with_normal(ray, local, index, hit, None)
+    }
+
+    /// [`RenderScene::hit_on_analytic`], its unit world normal `unit_normal` where the
+    /// caller knows it (a plane's, the same everywhere).
+    #[inline(always)]
+    pub(crate) fn hit_on_analytic_with_normal(
+        &self,
+        ray: &Ray,
+        local: &Ray,
+        index: u32,
+        hit: crate::shape::ShapeHit,
+        unit_normal: Option<Vec3>,
+    ) -> Hit {
         let inst = &self.instances[index as usize];
         let xf = self.transform_at(inst, ray.time);
         let material = inst.shape.hit_material(&self.shape_tables, hit).unwrap_or(inst.material);
@@ -707,7 +721,8 @@ impl RenderScene {
             ShapeKind::Plane => crate::shape::Plane.surface(local, hit),
             _ => inst.shape.surface_with(&self.shape_tables, local, hit),
         };
-        let normal = crate::math::unit_or(xf.normal_to_world(surface.normal), Vec3::Y);
+        let normal =
+            unit_normal.unwrap_or_else(|| crate::math::unit_or(xf.normal_to_world(surface.normal), Vec3::Y));
         let point = xf.point_to_world(surface.point);
         Hit {
             t: hit.t,

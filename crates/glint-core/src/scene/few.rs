@@ -126,6 +126,9 @@ pub struct FewObjects {
     objects: Vec<LaneObject>,
     /// Where each kind's group ends in `objects`.
     ends: [usize; LANE_KINDS.len()],
+    /// Per instance, a plane's unit world normal, the same at every point of it (NaN
+    /// for other shapes): found once, a hit on the floor does not wait on normalizing it.
+    plane_normals: [Vec3; MOST_OBJECTS],
 }
 
 impl FewObjects {
@@ -143,13 +146,26 @@ impl FewObjects {
             .collect::<Option<Vec<_>>>()?;
         // Stable: within a kind the scene's order, as the BVH-free loop had it.
         objects.sort_by_key(|o| kind_rank(o.kind));
-        Some(FewObjects::grouped(objects))
+        let mut plane_normals = [Vec3::NAN; MOST_OBJECTS];
+        for (normal, inst) in plane_normals.iter_mut().zip(&scene.instances) {
+            if inst.shape.kind == ShapeKind::Plane {
+                // As `few_objects_surface` finds it at any point of the plane.
+                *normal = crate::math::unit_or(inst.transform.normal_to_world(Vec3::Y), Vec3::Y);
+            }
+        }
+        Some(FewObjects::grouped(objects, plane_normals))
     }
 
     /// `objects`, already in the order of [`LANE_KINDS`], with each kind's group marked.
-    fn grouped(objects: Vec<LaneObject>) -> FewObjects {
+    fn grouped(objects: Vec<LaneObject>, plane_normals: [Vec3; MOST_OBJECTS]) -> FewObjects {
         let ends = std::array::from_fn(|k| objects.iter().take_while(|o| kind_rank(o.kind) <= k).count());
-        FewObjects { objects, ends }
+        FewObjects { objects, ends, plane_normals }
+    }
+
+    /// Instance `index`'s unit world normal if it is a plane, the same everywhere on it.
+    #[inline(always)]
+    pub(crate) fn plane_normal(&self, index: u32) -> Option<Vec3> {
+        self.plane_normals.get(index as usize).copied().filter(|n| !n.x.is_nan())
     }
 
     /// The objects that rays from `eye` can meet in directions inside the pyramid whose
@@ -182,7 +198,7 @@ impl FewObjects {
             sides.iter().all(|side| (0..8).any(|k| side.dot(corner(k) - eye) >= 0.0))
         };
         let objects = self.objects.iter().filter(|o| o.bounds.is_none_or(inside_every_side)).copied().collect();
-        FewObjects::grouped(objects)
+        FewObjects::grouped(objects, self.plane_normals)
     }
 
     /// The objects of kind `LANE_KINDS[k]`.
@@ -352,7 +368,10 @@ impl RenderScene {
         let inst = &self.instances[index as usize];
         let material = inst.material;
         if self.materials[material as usize].texture != crate::material::NO_TEXTURE {
-            return self.few_objects_hit(ray, hits, lane);
+            let local = inst.transform.ray_to_object(ray);
+            let hit = ShapeHit { t: hits.t[lane], part: hits.part[lane] };
+            let plane_normal = self.few_objects.as_ref().and_then(|few| few.plane_normal(index));
+            return Some(self.hit_on_analytic_with_normal(ray, &local, index, hit, plane_normal));
         }
         let (point, normal) = self.few_objects_surface(ray, hits, lane);
         Some(Hit {
@@ -387,7 +406,13 @@ impl RenderScene {
         let (point, normal) = match inst.shape.kind {
             ShapeKind::Rectangle => Rectangle.point_and_normal(&local, hit),
             ShapeKind::Disk => Disk.point_and_normal(&local, hit),
-            ShapeKind::Plane => Plane.point_and_normal(&local, hit),
+            ShapeKind::Plane => {
+                let (point, normal) = Plane.point_and_normal(&local, hit);
+                if let Some(unit) = self.few_objects.as_ref().and_then(|few| few.plane_normal(hits.object[lane])) {
+                    return (xf.point_to_world(point), unit);
+                }
+                (point, normal)
+            }
             ShapeKind::Sphere => Sphere.point_and_normal(&local, hit),
             ShapeKind::Cube => Cube.point_and_normal(&local, hit),
             ShapeKind::Cylinder => Cylinder.point_and_normal(&local, hit),
