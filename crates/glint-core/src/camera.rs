@@ -75,10 +75,10 @@ impl Camera {
         let mut dir = [[0.0; N]; 3];
         for (axis, dir) in dir.iter_mut().enumerate() {
             // The film point's coordinate, summed in the order `transform_point3` sums
-            // it (z = −1), less the eye's.
+            // it (z = −1: its column times −1 is its negation, exactly), less the eye's.
             let (cx, cy, cz, cw) = (m.x_axis[axis], m.y_axis[axis], m.z_axis[axis], m.w_axis[axis]);
             for ((d, &x), &y) in dir.iter_mut().zip(x).zip(y) {
-                *d = (cx * x + cy * y + cz * -1.0 + cw) - self.eye[axis];
+                *d = (cx * x + cy * y - cz + cw) - self.eye[axis];
             }
         }
         for k in 0..N {
@@ -124,7 +124,13 @@ mod tests {
             for k in 0..8 {
                 let one = cam.ray(x[k], y[k], Vec2::ZERO).dir;
                 let lane = Vec3::new(lanes[0][k], lanes[1][k], lanes[2][k]);
-                assert_eq!(one.to_array().map(f32::to_bits), lane.to_array().map(f32::to_bits), "at ({}, {})", x[k], y[k]);
+                assert_eq!(
+                    one.to_array().map(f32::to_bits),
+                    lane.to_array().map(f32::to_bits),
+                    "at ({}, {})",
+                    x[k],
+                    y[k]
+                );
             }
         }
     }

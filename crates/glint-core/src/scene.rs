@@ -721,8 +721,7 @@ impl RenderScene {
             ShapeKind::Plane => crate::shape::Plane.surface(local, hit),
             _ => inst.shape.surface_with(&self.shape_tables, local, hit),
         };
-        let normal =
-            unit_normal.unwrap_or_else(|| crate::math::unit_or(xf.normal_to_world(surface.normal), Vec3::Y));
+        let normal = unit_normal.unwrap_or_else(|| crate::math::unit_or(xf.normal_to_world(surface.normal), Vec3::Y));
         let point = xf.point_to_world(surface.point);
         Hit {
             t: hit.t,

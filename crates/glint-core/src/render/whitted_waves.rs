@@ -8,10 +8,13 @@
 //! step traces eight of them side by side, shades each hit (ambient and lights), and
 //! pushes the reflected and transmitted rays it spawns. Shadow rays wait apart with the
 //! light they would add and are traced eight at a time too (the point lights' directions
-//! for a wave's hits are worked out side by side first, [`LaneIncidence`]); an unblocked one adds its
-//! light, one stopped by an opaque object nothing, and one that meets transparent
-//! objects goes on past them, in waves too, filtered by each as
+//! for a wave's hits are worked out side by side first, [`LaneIncidence`]); an unblocked
+//! one adds its light, one stopped by an opaque object nothing, and one that meets
+//! transparent objects goes on past them, in waves too, filtered by each as
 //! [`RenderScene::transmittance`] filters a single ray.
+//!
+//! A pinhole camera's rays are made a wave at a time too ([`crate::camera::Camera::pinhole_directions`]),
+//! bit for bit the rays [`camera_sample`] makes one by one.
 //!
 //! A sample sums the same terms as the recursion, in another order, so its value agrees
 //! with it to rounding (the tests hold the two images to 1e-5); an area light's jitter
