@@ -13,8 +13,9 @@
 //! transparent objects goes on past them, in waves too, filtered by each as
 //! [`RenderScene::transmittance`] filters a single ray.
 //!
-//! A pinhole camera's rays are made a wave at a time too ([`crate::camera::Camera::pinhole_directions`]),
-//! bit for bit the rays [`camera_sample`] makes one by one.
+//! A pinhole camera's rays are made a wave at a time too
+//! ([`crate::camera::Camera::pinhole_directions`]), bit for bit the rays
+//! [`camera_sample`] makes one by one.
 //!
 //! A sample sums the same terms as the recursion, in another order, so its value agrees
 //! with it to rounding (the tests hold the two images to 1e-5); an area light's jitter
