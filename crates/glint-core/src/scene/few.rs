@@ -126,9 +126,9 @@ pub struct FewObjects {
     objects: Vec<LaneObject>,
     /// Where each kind's group ends in `objects`.
     ends: [usize; LANE_KINDS.len()],
-    /// Per instance, a plane's unit world normal, the same at every point of it (NaN
-    /// for other shapes): found once, a hit on the floor does not wait on normalizing it.
-    plane_normals: [Vec3; MOST_OBJECTS],
+    /// Per instance, a plane's unit world normal, the same at every point of it: found
+    /// once, a hit on the floor does not wait on normalizing it.
+    plane_normals: [Option<Vec3>; MOST_OBJECTS],
 }
 
 impl FewObjects {
@@ -146,18 +146,17 @@ impl FewObjects {
             .collect::<Option<Vec<_>>>()?;
         // Stable: within a kind the scene's order, as the BVH-free loop had it.
         objects.sort_by_key(|o| kind_rank(o.kind));
-        let mut plane_normals = [Vec3::NAN; MOST_OBJECTS];
+        let mut plane_normals = [None; MOST_OBJECTS];
         for (normal, inst) in plane_normals.iter_mut().zip(&scene.instances) {
-            if inst.shape.kind == ShapeKind::Plane {
-                // As `few_objects_surface` finds it at any point of the plane.
-                *normal = crate::math::unit_or(inst.transform.normal_to_world(Vec3::Y), Vec3::Y);
-            }
+            // As a hit anywhere on the plane would find it.
+            *normal = (inst.shape.kind == ShapeKind::Plane)
+                .then(|| crate::math::unit_or(inst.transform.normal_to_world(Vec3::Y), Vec3::Y));
         }
         Some(FewObjects::grouped(objects, plane_normals))
     }
 
     /// `objects`, already in the order of [`LANE_KINDS`], with each kind's group marked.
-    fn grouped(objects: Vec<LaneObject>, plane_normals: [Vec3; MOST_OBJECTS]) -> FewObjects {
+    fn grouped(objects: Vec<LaneObject>, plane_normals: [Option<Vec3>; MOST_OBJECTS]) -> FewObjects {
         let ends = std::array::from_fn(|k| objects.iter().take_while(|o| kind_rank(o.kind) <= k).count());
         FewObjects { objects, ends, plane_normals }
     }
@@ -165,7 +164,7 @@ impl FewObjects {
     /// Instance `index`'s unit world normal if it is a plane, the same everywhere on it.
     #[inline(always)]
     pub(crate) fn plane_normal(&self, index: u32) -> Option<Vec3> {
-        self.plane_normals.get(index as usize).copied().filter(|n| !n.x.is_nan())
+        self.plane_normals.get(index as usize).copied().flatten()
     }
 
     /// The objects that rays from `eye` can meet in directions inside the pyramid whose
@@ -351,8 +350,9 @@ impl RenderScene {
         }
         let local = self.instances[index as usize].transform.ray_to_object(ray);
         let hit = ShapeHit { t: hits.t[lane], part: hits.part[lane] };
+        let plane_normal = self.few_objects.as_ref().and_then(|few| few.plane_normal(index));
         // Only analytic instances are few objects.
-        Some(self.hit_on_analytic(ray, &local, index, hit))
+        Some(self.hit_on_analytic_with_normal(ray, &local, index, hit, plane_normal))
     }
 
     /// [`RenderScene::few_objects_hit`] for the lighting equation, which reads the
@@ -368,10 +368,7 @@ impl RenderScene {
         let inst = &self.instances[index as usize];
         let material = inst.material;
         if self.materials[material as usize].texture != crate::material::NO_TEXTURE {
-            let local = inst.transform.ray_to_object(ray);
-            let hit = ShapeHit { t: hits.t[lane], part: hits.part[lane] };
-            let plane_normal = self.few_objects.as_ref().and_then(|few| few.plane_normal(index));
-            return Some(self.hit_on_analytic_with_normal(ray, &local, index, hit, plane_normal));
+            return self.few_objects_hit(ray, hits, lane);
         }
         let (point, normal) = self.few_objects_surface(ray, hits, lane);
         Some(Hit {
