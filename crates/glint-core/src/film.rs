@@ -62,19 +62,29 @@ impl FilmTile {
     }
 
     /// [`FilmTile::splat`] with the sample's AOVs (kept only by a film made
-    /// [`FilmTile::with_aovs`]).
-    #[inline]
+    /// [`FilmTile::with_aovs`]). Inlined: a Whitted tile at one sample per pixel splats
+    /// as often as it traces a camera ray, and the pixel box's single pixel is a few
+    /// instructions where the call and its checks were ninety.
+    #[inline(always)]
     pub fn splat_with(&mut self, filter: &Filter, fx: f32, fy: f32, value: Vec3, aov: Option<&Aov>) {
-        let aov = aov.filter(|_| !self.aov_sums.is_empty()).map(|a| [a.albedo, a.normal, Vec3::splat(a.depth)]);
-        if let Some(i) = self.only_pixel(filter, fx, fy) {
-            self.add(i, filter.box_weight(), value, &aov);
+        let Some(i) = self.only_pixel(filter, fx, fy) else {
+            self.splat_spread(filter, (fx, fy), value, aov);
             return;
+        };
+        let w = filter.box_weight();
+        self.sums[i] += w * value;
+        self.weights[i] += w;
+        if let Some(aov) = aov.filter(|_| !self.aov_sums.is_empty()) {
+            for (sum, layer) in self.aov_sums[i].iter_mut().zip(aov_layers(aov)) {
+                *sum += w * layer;
+            }
         }
-        self.splat_spread(filter, (fx, fy), value, &aov);
     }
 
-    /// [`FilmTile::splat_with`] where the sample reaches more than one pixel.
-    fn splat_spread(&mut self, filter: &Filter, (fx, fy): (f32, f32), value: Vec3, aov: &Option<[Vec3; 3]>) {
+    /// [`FilmTile::splat_with`] where the sample may reach more than one pixel.
+    #[inline(never)]
+    fn splat_spread(&mut self, filter: &Filter, (fx, fy): (f32, f32), value: Vec3, aov: Option<&Aov>) {
+        let aov = aov.filter(|_| !self.aov_sums.is_empty()).map(aov_layers);
         let r = filter.radius;
         let x_lo = ((fx - 0.5 - r).ceil() as i64).max(self.x0 as i64);
         let x_hi = ((fx - 0.5 + r).floor() as i64).min(self.x0 as i64 + self.width as i64 - 1);
@@ -85,7 +95,7 @@ impl FilmTile {
                 let w = filter.eval(px as f32 + 0.5 - fx, py as f32 + 0.5 - fy);
                 if w != 0.0 {
                     let i = ((py - self.y0 as i64) * self.width as i64 + (px - self.x0 as i64)) as usize;
-                    self.add(i, w, value, aov);
+                    self.add(i, w, value, &aov);
                 }
             }
         }
@@ -94,17 +104,19 @@ impl FilmTile {
     /// The index of the one pixel the pixel-sized box filter gives a sample strictly
     /// inside it to (the common case, and the cost of a whole splat saved); `None` for
     /// other filters, samples on a pixel border (which reach both sides) and pixels
-    /// outside this rectangle.
-    #[inline]
+    /// outside this rectangle. Branch-free tests, and 32-bit conversions, whose
+    /// saturation costs less than 64-bit ones'.
+    #[inline(always)]
     fn only_pixel(&self, filter: &Filter, fx: f32, fy: f32) -> Option<usize> {
-        // Truncation is the floor here (no negative positions), and a conversion where
-        // `floor` would be a library call on CPUs without SSE 4.1's rounding.
-        let (x, y) = (fx as i64, fy as i64);
-        let box_filter = filter.kind == FilterKind::Box && filter.radius == 0.5;
-        let inside = box_filter && fx >= 0.0 && fy >= 0.0 && fx > x as f32 && fy > y as f32;
-        let (px, py) = (x - self.x0 as i64, y - self.y0 as i64);
-        let here = (0..self.width as i64).contains(&px) && (0..self.height as i64).contains(&py);
-        (inside && here).then(|| (py * self.width as i64 + px) as usize)
+        // Truncation is the floor for the non-negative positions kept; one past `i32`
+        // saturates, and then is no pixel of this rectangle.
+        let (x, y) = (fx as i32, fy as i32);
+        let box_filter = (filter.kind == FilterKind::Box) & (filter.radius == 0.5);
+        let inside = box_filter & (fx >= 0.0) & (fy >= 0.0) & (fx > x as f32) & (fy > y as f32);
+        // Left of or above the rectangle wraps past its width or height.
+        let (px, py) = (x.wrapping_sub(self.x0 as i32) as u32, y.wrapping_sub(self.y0 as i32) as u32);
+        let here = (px < self.width) & (py < self.height);
+        (inside & here).then(|| py as usize * self.width as usize + px as usize)
     }
 
     /// Adds a sample of weight `w` to pixel `i`.
@@ -290,6 +302,12 @@ impl Image {
 }
 
 /// `sums[k] += adds[k]` for each `k`, in order.
+/// An [`Aov`] as the three layers a film sums: albedo, normal, and depth in all three
+/// channels.
+fn aov_layers(aov: &Aov) -> [Vec3; 3] {
+    [aov.albedo, aov.normal, Vec3::splat(aov.depth)]
+}
+
 fn add_all<T: Copy + std::ops::AddAssign>(sums: &mut [T], adds: &[T]) {
     for (sum, &add) in sums.iter_mut().zip(adds) {
         *sum += add;
