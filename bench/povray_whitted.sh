@@ -4,9 +4,11 @@
 # on the same cores, in two tables:
 #
 # 1. Trace rate without anti-aliasing, best of ROUNDS runs: rays counted as POV-Ray
-#    counts them — camera, reflected and refracted rays, and shadow rays apart — over
-#    each renderer's own trace time (POV-Ray's "Trace Time"; glint's "traced in", which
-#    leaves out parsing, the BVH build and writing the image, as POV-Ray's does).
+#    counts them — camera, reflected and refracted rays, and shadow rays apart, a
+#    shadow ray that goes on past a transparent surface counting once more for each
+#    leg, as POV-Ray's "Shadow Ray Tests" do — over each renderer's own trace time
+#    (POV-Ray's "Trace Time"; glint's "traced in", which leaves out parsing, the BVH
+#    build and writing the image, as POV-Ray's does).
 #    glint counts all its rays together; a second run with shadows off counts the
 #    others (shadow rays spawn no rays, so the ray tree is the same).
 # 2. The whole process at equal anti-aliasing error: each renderer's error is the RMS

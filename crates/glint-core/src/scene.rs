@@ -787,25 +787,32 @@ impl RenderScene {
     /// The fraction of light that crosses the segment `0 < t < t_max`: zero if an opaque
     /// surface blocks it, else the product of `k_t·O_t` of every surface crossed.
     pub fn transmittance(&self, ray: &Ray, t_max: f32) -> Vec3 {
+        self.transmittance_counted(ray, t_max).0
+    }
+
+    /// [`RenderScene::transmittance`], and how many rays it traced past transparent
+    /// surfaces after the first: each goes on from the surface it crossed and is a
+    /// whole query of the scene, which POV-Ray counts as a shadow ray test of its own.
+    pub fn transmittance_counted(&self, ray: &Ray, t_max: f32) -> (Vec3, u32) {
         if !self.has_transmissive {
-            return if self.occluded(ray, t_max) { Vec3::ZERO } else { Vec3::ONE };
+            return (if self.occluded(ray, t_max) { Vec3::ZERO } else { Vec3::ONE }, 0);
         }
         let mut filter = Vec3::ONE;
         let mut ray = *ray;
         let mut t_left = t_max;
         // Each crossing moves the origin past one surface; the bound only guards
         // against pathological scenes.
-        for _ in 0..64 {
-            let Some(hit) = self.intersect(&ray, t_left) else { return filter };
+        for crossed in 0..64 {
+            let Some(hit) = self.intersect(&ray, t_left) else { return (filter, crossed) };
             if !self.casts_no_shadow(hit.instance) {
                 filter *= self.materials[hit.material as usize].transmissive;
             }
             if filter.max_element() <= 0.0 {
-                return Vec3::ZERO;
+                return (Vec3::ZERO, crossed);
             }
             (ray, t_left) = past_surface(&ray, t_left, hit.point, hit.geometric_normal);
         }
-        Vec3::ZERO
+        (Vec3::ZERO, 63)
     }
 
     /// The closest hit of an object-space ray with an instance's shape or mesh.

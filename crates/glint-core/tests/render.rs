@@ -177,6 +177,33 @@ fn every_transparent_occluder_filters_a_directional_light() {
     assert_close(pixel(&desc), Vec3::splat(0.5f32.powi(4)));
 }
 
+/// Each leg a shadow ray traces past a transparent surface is a ray of its own (a
+/// whole query of the scene), as POV-Ray counts its shadow ray tests: two panes make
+/// two more rays, an opaque one none, and waves count as one-by-one tracing does.
+#[test]
+fn a_shadow_ray_counts_a_ray_for_each_leg_past_a_transparent_surface() {
+    let lit = MaterialDesc { diffuse: Vec3::ONE, ambient: Some(Vec3::ZERO), ..black() };
+    let mut desc = facing_plane(lit, vec![light_at(0.0)], Vec3::ZERO, Vec3::ZERO);
+    desc.materials.push(MaterialDesc { kt: 1.0, transmissive: Vec3::splat(0.5), ..black() });
+    for z in [1.0, 2.0] {
+        desc.objects.push(node(
+            ShapeDesc::Disk,
+            1,
+            vec![TransformOp::Rotate { axis: Vec3::X, degrees: 90.0 }, TransformOp::Translate(Vec3::new(0.0, 0.0, z))],
+        ));
+    }
+    let to_light = glint_core::math::Ray::new(Vec3::new(0.0, 0.0, 0.01), Vec3::Z);
+    let scene = compile(&desc).expect("valid scene");
+    assert_eq!(scene.transmittance_counted(&to_light, f32::INFINITY), (Vec3::splat(0.25), 2));
+    assert!(scene.few_objects.is_some(), "a plane and two disks are traced in waves");
+    let alone = glint_core::scene::RenderScene { few_objects: None, ..scene.clone() };
+    let rays = |scene| render(scene, &|_, _| {}, &AtomicBool::new(false)).expect("not cancelled").1.rays;
+    assert_eq!(rays(&scene), rays(&alone));
+    desc.materials[1] = black();
+    let scene = compile(&desc).expect("valid scene");
+    assert_eq!(scene.transmittance_counted(&to_light, f32::INFINITY), (Vec3::ZERO, 0));
+}
+
 #[test]
 fn corner_samples_reach_across_tile_borders() {
     // A plane lit by a point light on the view axis: the image is mirror-symmetric in

@@ -197,8 +197,9 @@ pub fn for_each_secondary(
 pub trait ShadowRays {
     /// The filter (`k_t·O_t` of what the segment `0 < t < t_max` of `ray` crosses, zero
     /// if it is blocked), or `None` if the ray is put aside: [`ShadowRays::defer`]
-    /// then takes the light it would add unshadowed.
-    fn filter(&mut self, scene: &RenderScene, ray: &Ray, t_max: f32) -> Option<Vec3>;
+    /// then takes the light it would add unshadowed. Adds to `rays` the rays traced
+    /// past transparent surfaces after `ray` itself.
+    fn filter(&mut self, scene: &RenderScene, ray: &Ray, t_max: f32, rays: &mut u64) -> Option<Vec3>;
 
     /// Keeps `light`, what the shadow ray last put aside adds times its filter.
     fn defer(&mut self, ray: &Ray, t_max: f32, light: Vec3);
@@ -223,9 +224,11 @@ pub struct TracedNow;
 
 impl ShadowRays for TracedNow {
     #[inline(always)]
-    fn filter(&mut self, scene: &RenderScene, ray: &Ray, t_max: f32) -> Option<Vec3> {
+    fn filter(&mut self, scene: &RenderScene, ray: &Ray, t_max: f32, rays: &mut u64) -> Option<Vec3> {
         Some(if scene.settings.features.transparent_shadows {
-            scene.transmittance(ray, t_max)
+            let (filter, crossed) = scene.transmittance_counted(ray, t_max);
+            *rays += u64::from(crossed);
+            filter
         } else if scene.occluded(ray, t_max) {
             Vec3::ZERO
         } else {
@@ -295,7 +298,8 @@ fn direct_lighting(
             let filter = if features.shadows {
                 ctx.counters.rays += 1;
                 let shadow_ray = Ray::new(shadow_origin, incidence.to_light).at_time(time);
-                let Some(filter) = shadows.filter(scene, &shadow_ray, incidence.distance) else {
+                let Some(filter) = shadows.filter(scene, &shadow_ray, incidence.distance, &mut ctx.counters.rays)
+                else {
                     let light = incidence.radiance * (diffuse * n_dot_l + m.specular * highlight());
                     shadows.defer(&shadow_ray, incidence.distance, light);
                     continue;

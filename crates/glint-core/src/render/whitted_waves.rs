@@ -76,7 +76,7 @@ struct Deferred<'a> {
 
 impl ShadowRays for Deferred<'_> {
     #[inline(always)]
-    fn filter(&mut self, _: &RenderScene, _: &Ray, _: f32) -> Option<Vec3> {
+    fn filter(&mut self, _: &RenderScene, _: &Ray, _: f32, _: &mut u64) -> Option<Vec3> {
         None
     }
 
@@ -202,7 +202,7 @@ fn trace_requests(
         // Pushed in reverse and popped from the end: the batch's first rays go first.
         let pending = camera_rays.iter().enumerate().rev();
         rays.extend(pending.map(|(k, &ray)| Pending { sample: k as u32, ray, weight: Vec3::ONE, depth: 0 }));
-        trace_batch(scene, objects, &mut samples, &mut rays, &mut shadows);
+        counters.rays += trace_batch(scene, objects, &mut samples, &mut rays, &mut shadows);
         for (&request, sample) in batch.iter().zip(&mut samples) {
             counters.rays += sample.ctx.counters.rays;
             sample.traced.culprit = sample.ctx.counters.non_finite_at;
@@ -242,7 +242,8 @@ fn push_pinhole_samples(
 }
 
 /// Traces `rays` and every ray they spawn, shadow rays included, adding what each
-/// brings back to its sample.
+/// brings back to its sample; returns how many rays shadow rays traced past
+/// transparent surfaces (the samples count the others).
 #[inline(always)]
 fn trace_batch(
     scene: &RenderScene,
@@ -250,7 +251,8 @@ fn trace_batch(
     samples: &mut [Sample],
     rays: &mut Vec<Pending>,
     shadows: &mut Vec<PendingShadow>,
-) {
+) -> u64 {
+    let mut crossing_rays = 0;
     let mut wave = Vec::with_capacity(WAVE);
     while !rays.is_empty() {
         // The last rays on the stack, the last first, moved in one copy.
@@ -295,20 +297,22 @@ fn trace_batch(
         }
         while shadows.len() >= WAVE {
             let at = shadows.len() - WAVE;
-            resolve_shadows(scene, objects.all, samples, &shadows[at..]);
+            crossing_rays += resolve_shadows(scene, objects.all, samples, &shadows[at..]);
             shadows.truncate(at);
         }
     }
     if !shadows.is_empty() {
-        resolve_shadows(scene, objects.all, samples, shadows);
+        crossing_rays += resolve_shadows(scene, objects.all, samples, shadows);
         shadows.clear();
     }
+    crossing_rays
 }
 
 /// Traces up to [`WAVE`] shadow rays side by side and adds to each sample the light of
-/// those that reach their light.
+/// those that reach their light; returns how many rays they traced past transparent
+/// surfaces, as [`RenderScene::transmittance_counted`] counts them.
 #[inline(always)]
-fn resolve_shadows(scene: &RenderScene, few: &FewObjects, samples: &mut [Sample], shadows: &[PendingShadow]) {
+fn resolve_shadows(scene: &RenderScene, few: &FewObjects, samples: &mut [Sample], shadows: &[PendingShadow]) -> u64 {
     let mut lanes = RayWave::default();
     for (lane, shadow) in shadows.iter().enumerate() {
         lanes.set(lane, &shadow.ray, shadow.t_max, true);
@@ -331,7 +335,7 @@ fn resolve_shadows(scene: &RenderScene, few: &FewObjects, samples: &mut [Sample]
                 add(shadow, Vec3::ONE);
             }
         }
-        return;
+        return 0;
     }
     // Transparent occluders filter the light: each ray goes on past the transparent
     // surfaces it meets, in waves, until it reaches its light or an opaque surface.
@@ -344,16 +348,19 @@ fn resolve_shadows(scene: &RenderScene, few: &FewObjects, samples: &mut [Sample]
         going.step(scene, &hits, lane, &crossing, &mut add);
     }
     // The bound only guards against pathological scenes, as in `transmittance`.
+    let mut crossing_rays = 0;
     for _ in 1..64 {
         if going.count == 0 {
-            return;
+            break;
         }
+        crossing_rays += going.count as u64;
         let hits = few.trace(&going.lanes);
         let crossings = std::mem::take(&mut going);
         for (lane, crossing) in crossings.crossings.iter().take(crossings.count).enumerate() {
             going.step(scene, &hits, lane, crossing.as_ref().expect("packed at the front"), &mut add);
         }
     }
+    crossing_rays
 }
 
 /// The shadow rays that go on past a transparent surface, packed at the front.
