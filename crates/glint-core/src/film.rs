@@ -163,12 +163,10 @@ impl FilmTile {
         for y in y_lo..y_hi {
             let i = ((y - self.y0) * self.width + (x_lo - self.x0)) as usize;
             let j = ((y - other.y0) * other.width + (x_lo - other.x0)) as usize;
-            add_all(&mut self.sums[i..i + n], &other.sums[j..j + n]);
+            add_all(floats_mut(&mut self.sums[i..i + n]), floats(&other.sums[j..j + n]));
             add_all(&mut self.weights[i..i + n], &other.weights[j..j + n]);
             if aovs {
-                for (sums, adds) in self.aov_sums[i..i + n].iter_mut().zip(&other.aov_sums[j..j + n]) {
-                    add_all(sums, adds);
-                }
+                add_all(floats_mut(&mut self.aov_sums[i..i + n]), floats(&other.aov_sums[j..j + n]));
             }
         }
     }
@@ -308,10 +306,22 @@ fn aov_layers(aov: &Aov) -> [Vec3; 3] {
     [aov.albedo, aov.normal, Vec3::splat(aov.depth)]
 }
 
-fn add_all<T: Copy + std::ops::AddAssign>(sums: &mut [T], adds: &[T]) {
+/// Adds `adds` into `sums`, element by element: over plain floats, so the loop is
+/// vector adds (over `Vec3`s, three scalar adds each).
+fn add_all(sums: &mut [f32], adds: &[f32]) {
     for (sum, &add) in sums.iter_mut().zip(adds) {
         *sum += add;
     }
+}
+
+/// Vectors as the floats they hold, in order.
+fn floats<T: bytemuck::Pod>(vectors: &[T]) -> &[f32] {
+    bytemuck::cast_slice(vectors)
+}
+
+/// [`floats`], to write.
+fn floats_mut<T: bytemuck::Pod>(vectors: &mut [T]) -> &mut [f32] {
+    bytemuck::cast_slice_mut(vectors)
 }
 
 /// Clamps to [0, 1]; NaN maps to 0.
