@@ -3,9 +3,9 @@
 # whitted.pov: seven analytic objects, two point lights, mirror and glass, 800x600),
 # on the same cores, in two tables:
 #
-# 1. Trace rate without anti-aliasing, best of ROUNDS runs: rays counted as POV-Ray
-#    counts them — camera, reflected and refracted rays, and shadow rays apart, a
-#    shadow ray that goes on past a transparent surface counting once more for each
+# 1. Trace rate without anti-aliasing, best and median of ROUNDS runs: rays counted as
+#    POV-Ray counts them — camera, reflected and refracted rays, and shadow rays apart,
+#    a shadow ray that goes on past a transparent surface counting once more for each
 #    leg, as POV-Ray's "Shadow Ray Tests" do — over each renderer's own trace time
 #    (POV-Ray's "Trace Time"; glint's "traced in", which leaves out parsing, the BVH
 #    build and writing the image, as POV-Ray's does).
@@ -68,24 +68,27 @@ pov_run() {
     echo "$(echo "$end - $start" | bc) $traced $rays $shadow"
 }
 
-echo "== trace rate, no anti-aliasing, 800x600, $threads threads, best of $rounds"
-best_g=""; best_p=""
+echo "== trace rate, no anti-aliasing, 800x600, $threads threads, best and median of $rounds"
+g_times=""; p_times=""
 for _ in $(seq "$rounds"); do
     read -r _ g_traced g_all < <(glint_run glint-1 "$scene.glint")
     read -r _ p_traced p_rays p_shadow < <(pov_run pov-1 -A)
-    if [[ -z "$best_g" ]] || (($(echo "$g_traced < $best_g" | bc))); then best_g=$g_traced; fi
-    if [[ -z "$best_p" ]] || (($(echo "$p_traced < $best_p" | bc))); then best_p=$p_traced; fi
+    g_times="$g_times $g_traced"; p_times="$p_times $p_traced"
 done
 read -r _ _ g_rays < <(glint_run glint-no-shadows "$out/whitted-no-shadows.glint")
 g_shadow=$((g_all - g_rays))
-python3 - "$best_g" "$g_rays" "$g_shadow" "$best_p" "$p_rays" "$p_shadow" <<'PY'
-import sys
-g_t, g_r, g_s, p_t, p_r, p_s = map(float, sys.argv[1:])
-print("| renderer | camera + secondary rays | shadow rays | trace time (s) | M rays/s (all) |")
+python3 - "$g_rays" "$g_shadow" "$p_rays" "$p_shadow" "$g_times" "$p_times" <<'PY'
+import statistics, sys
+g_r, g_s, p_r, p_s = map(float, sys.argv[1:5])
+g_times, p_times = ([float(t) for t in a.split()] for a in sys.argv[5:7])
+print("| renderer | camera + secondary rays | shadow rays | trace time, best / median (s) | M rays/s (all), best |")
 print("|---|---:|---:|---:|---:|")
-for name, t, r, s in (("glint", g_t, g_r, g_s), ("POV-Ray 3.7", p_t, p_r, p_s)):
-    print(f"| {name} | {r:,.0f} | {s:,.0f} | {t:.3f} | {(r + s) / t / 1e6:.2f} |")
-print(f"glint/POV-Ray ray rate: {((g_r + g_s) / g_t) / ((p_r + p_s) / p_t):.2f}x")
+for name, times, r, s in (("glint", g_times, g_r, g_s), ("POV-Ray 3.7", p_times, p_r, p_s)):
+    t, m = min(times), statistics.median(times)
+    print(f"| {name} | {r:,.0f} | {s:,.0f} | {t:.3f} / {m:.3f} | {(r + s) / t / 1e6:.2f} |")
+rate = lambda t_g, t_p: ((g_r + g_s) / t_g) / ((p_r + p_s) / t_p)
+print(f"glint/POV-Ray ray rate: {rate(min(g_times), min(p_times)):.2f}x "
+      f"(by the medians: {rate(statistics.median(g_times), statistics.median(p_times)):.2f}x)")
 PY
 
 # best_wall RUN NAME ARGS…: RUN (glint_run or pov_run) ROUNDS times; prints the
