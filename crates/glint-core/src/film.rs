@@ -403,6 +403,11 @@ mod tests {
         film.splat(&filter, 3.0, 3.5, Vec3::splat(8.0));
         film.splat(&filter, 7.5, 3.5, Vec3::splat(16.0));
         film.splat(&filter, 1.5, 4.5, Vec3::splat(32.0));
+        // Far outside, where the pixel's coordinates would not fit an `i32`, or left of
+        // the image: neither.
+        for (fx, fy) in [(-0.5, 4.5), (4.5, -0.25), (3e9, 4.5), (4.5, f32::MAX)] {
+            film.splat(&filter, fx, fy, Vec3::splat(64.0));
+        }
         let at = |x: u32, y: u32| {
             let i = ((y - 3) * 4 + (x - 2)) as usize;
             (film.sums[i].x, film.weights[i])
