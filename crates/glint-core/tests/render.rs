@@ -160,8 +160,9 @@ fn opaque_occluders_cast_shadows_and_transparent_ones_filter() {
     assert_close(pixel(&desc), Vec3::ZERO);
 }
 
-#[test]
-fn every_transparent_occluder_filters_a_directional_light() {
+/// A lit plane seen, and lit by a light straight above it, through two panes (disks at
+/// z = 1 and 2) of material 1, which lets half the light through (`k_t·O_t` = 0.5).
+fn plane_behind_two_panes() -> SceneDesc {
     let lit = MaterialDesc { diffuse: Vec3::ONE, ambient: Some(Vec3::ZERO), ..black() };
     let mut desc = facing_plane(lit, vec![light_at(0.0)], Vec3::ZERO, Vec3::ZERO);
     desc.materials.push(MaterialDesc { kt: 1.0, transmissive: Vec3::splat(0.5), ..black() });
@@ -172,6 +173,12 @@ fn every_transparent_occluder_filters_a_directional_light() {
             vec![TransformOp::Rotate { axis: Vec3::X, degrees: 90.0 }, TransformOp::Translate(Vec3::new(0.0, 0.0, z))],
         ));
     }
+    desc
+}
+
+#[test]
+fn every_transparent_occluder_filters_a_directional_light() {
+    let desc = plane_behind_two_panes();
     // The light is infinitely far: past the first pane the shadow ray still runs to
     // infinity and meets the second. Light filtered twice, seen through both panes.
     assert_close(pixel(&desc), Vec3::splat(0.5f32.powi(4)));
@@ -182,16 +189,7 @@ fn every_transparent_occluder_filters_a_directional_light() {
 /// two more rays, an opaque one none, and waves count as one-by-one tracing does.
 #[test]
 fn a_shadow_ray_counts_a_ray_for_each_leg_past_a_transparent_surface() {
-    let lit = MaterialDesc { diffuse: Vec3::ONE, ambient: Some(Vec3::ZERO), ..black() };
-    let mut desc = facing_plane(lit, vec![light_at(0.0)], Vec3::ZERO, Vec3::ZERO);
-    desc.materials.push(MaterialDesc { kt: 1.0, transmissive: Vec3::splat(0.5), ..black() });
-    for z in [1.0, 2.0] {
-        desc.objects.push(node(
-            ShapeDesc::Disk,
-            1,
-            vec![TransformOp::Rotate { axis: Vec3::X, degrees: 90.0 }, TransformOp::Translate(Vec3::new(0.0, 0.0, z))],
-        ));
-    }
+    let mut desc = plane_behind_two_panes();
     let to_light = glint_core::math::Ray::new(Vec3::new(0.0, 0.0, 0.01), Vec3::Z);
     let scene = compile(&desc).expect("valid scene");
     assert_eq!(scene.transmittance_counted(&to_light, f32::INFINITY), (Vec3::splat(0.25), 2));
