@@ -71,14 +71,8 @@ impl FilmTile {
             self.splat_spread(filter, (fx, fy), value, aov);
             return;
         };
-        let w = filter.box_weight();
-        self.sums[i] += w * value;
-        self.weights[i] += w;
-        if let Some(aov) = aov.filter(|_| !self.aov_sums.is_empty()) {
-            for (sum, layer) in self.aov_sums[i].iter_mut().zip(aov_layers(aov)) {
-                *sum += w * layer;
-            }
-        }
+        let aov = aov.filter(|_| !self.aov_sums.is_empty()).map(aov_layers);
+        self.add(i, filter.box_weight(), value, &aov);
     }
 
     /// [`FilmTile::splat_with`] where the sample may reach more than one pixel.
@@ -120,7 +114,7 @@ impl FilmTile {
     }
 
     /// Adds a sample of weight `w` to pixel `i`.
-    #[inline]
+    #[inline(always)]
     fn add(&mut self, i: usize, w: f32, value: Vec3, aov: &Option<[Vec3; 3]>) {
         self.sums[i] += w * value;
         self.weights[i] += w;
@@ -299,7 +293,6 @@ impl Image {
     }
 }
 
-/// `sums[k] += adds[k]` for each `k`, in order.
 /// An [`Aov`] as the three layers a film sums: albedo, normal, and depth in all three
 /// channels.
 fn aov_layers(aov: &Aov) -> [Vec3; 3] {
