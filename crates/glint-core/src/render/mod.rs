@@ -171,11 +171,6 @@ fn merge_tiles<'a>(scene: &RenderScene, tiles: impl Iterator<Item = &'a Finished
 /// Merges into `pixels` and `counts`, the rows from `y0` of the image's pixels and
 /// samples per pixel, the tiles of `tiles` (in tile order) whose films reach them, on
 /// `film` (reset here, so a worker can reuse one); returns the band's AOVs.
-///
-/// Without AOVs the band is merged a row at a time on a film one row high, which stays
-/// in the first-level cache while the tiles' rows are added to it (a band-high film
-/// was a quarter of a megabyte to clear and go over for each band). Either way each
-/// pixel adds its tiles' sums in tile order from zero, so the two agree bit for bit.
 fn merge_band<'a>(
     scene: &RenderScene,
     film: &mut FilmTile,
@@ -186,28 +181,14 @@ fn merge_band<'a>(
 ) -> Option<AovImages> {
     let width = scene.settings.width;
     let rows = (pixels.len() / width as usize) as u32;
-    let reaches = |t: &FinishedTile, (lo, hi): (u32, u32)| t.film.y0 < hi && t.film.y0 + t.film.height > lo;
-    let band_tiles: Vec<&FinishedTile> = tiles.filter(|t| reaches(t, (y0, y0 + rows))).collect();
-    for tile in &band_tiles {
+    film.reset((0, y0, width, rows), scene.settings.aovs);
+    let overlaps = |t: &&FinishedTile| t.film.y0 < y0 + rows && t.film.y0 + t.film.height > y0;
+    for tile in tiles.filter(overlaps) {
+        film.merge(&tile.film);
         copy_sample_counts(tile, (y0, y0 + rows), width, counts);
     }
-    if scene.settings.aovs {
-        film.reset((0, y0, width, rows), true);
-        for tile in &band_tiles {
-            film.merge(&tile.film);
-        }
-        film.resolve_into(pixels);
-        return film.resolve_aovs();
-    }
-    for (row, row_pixels) in pixels.chunks_mut(width as usize).enumerate() {
-        let y = y0 + row as u32;
-        film.reset((0, y, width, 1), false);
-        for tile in band_tiles.iter().filter(|t| reaches(t, (y, y + 1))) {
-            film.merge(&tile.film);
-        }
-        film.resolve_into(row_pixels);
-    }
-    None
+    film.resolve_into(pixels);
+    film.resolve_aovs()
 }
 
 /// The sample counts of `tile`'s rows within `rows` into `counts`, the counts of those
